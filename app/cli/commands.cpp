@@ -1,0 +1,181 @@
+#include "commands.hpp"
+
+#include <fmt/format.h>
+
+#include <csignal>
+#include <iostream>
+#include <optional>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/log.hpp"
+#include "trainsim/core/progress.hpp"
+#include "trainsim/io/file_io.hpp"
+#include "trainsim/sim/generate.hpp"
+#include "trainsim/sim/schema.hpp"
+
+namespace trainsim::cli {
+namespace {
+
+int g_exit_code = kExitOk;
+std::atomic<bool> g_cancel{false};
+
+extern "C" void onInterrupt(int /*signal*/) {
+  g_cancel.store(true);
+}
+
+struct CommonOptions {
+  std::string scenario;  // empty: built-in default
+  std::string log_level = "info";
+};
+
+struct GenerateArgs : CommonOptions {
+  std::string out = "output";
+  std::optional<std::uint64_t> seed;
+  int threads = 0;
+  bool resume = false;
+  bool force = false;
+  std::string progress = "auto";
+};
+
+void addLogLevel(CLI::App* cmd, std::string& level) {
+  cmd->add_option("--log-level", level, "debug, info, warn, error or off")->capture_default_str();
+}
+
+void applyLogLevel(const std::string& level) {
+  setLogLevel(parseLogLevel(level, "--log-level"));
+}
+
+std::string describeSource(const std::string& path) {
+  return path.empty() ? "built-in default scenario" : path == "-" ? "standard input" : path;
+}
+
+void runGenerate(const GenerateArgs& args) {
+  applyLogLevel(args.log_level);
+  if (args.threads < 0) {
+    throw ConfigError(fmt::format("--threads: {} is below the minimum 0", args.threads));
+  }
+  const scenario::Scenario scenario = sim::loadScenario(args.scenario, args.seed);
+  ProgressReporter progress(parseProgressMode(args.progress));
+  sim::GenerateOptions options;
+  options.out = args.out;
+  options.policy = {args.force, args.resume};
+  options.threads = args.threads;
+  options.progress = &progress;
+  options.cancel = &g_cancel;
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+
+  logInfo(fmt::format("generate: {} (scenario {}, seed {}) into {}", describeSource(args.scenario),
+                      scenario.hash(), scenario.seed(), args.out));
+  const sim::GenerateReport report = sim::generate(scenario, options);
+  if (report.already_complete) {
+    logInfo(
+        fmt::format("{} already holds the complete dataset of this scenario and seed; "
+                    "nothing to do",
+                    args.out));
+    return;
+  }
+  if (report.outputs.empty()) {
+    logInfo("sensors run: none");
+  }
+  for (const auto& o : report.outputs) {
+    logInfo(fmt::format("sensor {} ({}): {} readings", o.name, o.kind, o.readings));
+  }
+  for (const auto& stage : report.not_run) {
+    logWarn("not simulated yet: " + stage);
+  }
+  logInfo(fmt::format("wrote {}/manifest.json and {}/scenario.json", args.out, args.out));
+}
+
+void runPlan(const CommonOptions& args, const std::string& out) {
+  applyLogLevel(args.log_level);
+  const scenario::Scenario scenario = sim::loadScenario(args.scenario);
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) {
+    throw IoError("cannot create folder " + out + ": " + ec.message());
+  }
+  io::writeFileAtomic(std::filesystem::path(out) / "scenario.json", scenario.text());
+  logWarn(
+      "plan: route, layout, trajectory, terrain and objects are not built yet (issue #3 "
+      "onwards); only scenario.json was written");
+  logInfo(fmt::format("wrote {}/scenario.json", out));
+}
+
+void runValidate(const std::string& path) {
+  try {
+    sim::loadScenario(path);
+    std::cout << describeSource(path) << ": valid\n";
+  } catch (const scenario::InvalidScenario& e) {
+    for (const auto& p : e.problems()) {
+      std::cerr << e.source() << ": " << p.text() << "\n";
+    }
+    g_exit_code = kExitInvalidInput;
+  } catch (const ConfigError& e) {  // unreadable file, malformed JSON: one line already
+    std::cerr << e.what() << "\n";
+    g_exit_code = kExitInvalidInput;
+  }
+}
+
+}  // namespace
+
+int commandExitCode() {
+  return g_exit_code;
+}
+
+void addCommands(CLI::App& app) {
+  app.require_subcommand(1);
+
+  // generate
+  static GenerateArgs gen;
+  CLI::App* generate = app.add_subcommand(
+      "generate",
+      "Run the whole pipeline and write a dataset (built-in default scenario when "
+      "SCENARIO is omitted; '-' reads standard input)");
+  generate->add_option("SCENARIO", gen.scenario, "Scenario JSON file");
+  generate->add_option("--out,-o", gen.out, "Output folder")->capture_default_str();
+  generate->add_option("--seed", gen.seed, "Replace the scenario's seed");
+  generate
+      ->add_option("--threads", gen.threads,
+                   "Worker threads, 0 for all cores (never "
+                   "changes the output)")
+      ->capture_default_str();
+  generate->add_flag("--resume", gen.resume, "Continue an interrupted run in --out");
+  generate->add_flag("--force", gen.force,
+                     "Start over in a non-empty --out (removes only TrainSim's own entries)");
+  generate
+      ->add_option("--progress", gen.progress,
+                   "auto (a bar on a terminal), bar, json (one line per update on "
+                   "standard output) or none")
+      ->capture_default_str();
+  addLogLevel(generate, gen.log_level);
+  generate->callback([] { runGenerate(gen); });
+
+  // plan
+  static CommonOptions plan;
+  static std::string plan_out;
+  CLI::App* plan_cmd = app.add_subcommand(
+      "plan", "Plan route, layout, trajectory, terrain and objects with the design-rule report");
+  plan_cmd->add_option("SCENARIO", plan.scenario, "Scenario JSON file (default: built-in)");
+  plan_cmd->add_option("--out,-o", plan_out, "Output folder")->required();
+  addLogLevel(plan_cmd, plan.log_level);
+  plan_cmd->callback([] { runPlan(plan, plan_out); });
+
+  // validate
+  static std::string validate_path;
+  CLI::App* validate = app.add_subcommand(
+      "validate", "Check a scenario: exit 0 when valid, 2 with one line per problem otherwise");
+  validate->add_option("SCENARIO", validate_path, "Scenario JSON file, '-' for standard input")
+      ->required();
+  validate->callback([] { runValidate(validate_path); });
+
+  // defaults
+  app.add_subcommand("defaults", "Print the built-in default scenario with every parameter")
+      ->callback([] { std::cout << sim::loadScenario("").text(); });
+
+  // schema
+  app.add_subcommand("schema", "Print the parameter table (Markdown, as in docs/SCENARIO.md)")
+      ->callback([] { std::cout << sim::scenarioSchema().markdown(); });
+}
+
+}  // namespace trainsim::cli

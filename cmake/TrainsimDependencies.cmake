@@ -1,0 +1,24 @@
+# Third-party packages, all from Debian 12 (see scripts/debian-packages.txt).
+# Heavy packages (VTK, PCL, Embree, CGAL) are found by the modules that use them and linked
+# PRIVATE so their headers stay out of the public ones.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(fmt REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(Threads REQUIRED)
+# GeographicLib's Find module lives outside CMake's default search path on Debian.
+list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)
+find_package(GeographicLib 2.1 REQUIRED)
+
+# Random123 is header-only and ships no CMake config.
+find_path(RANDOM123_INCLUDE_DIR Random123/philox.h REQUIRED)
+add_library(Random123::Random123 INTERFACE IMPORTED)
+target_include_directories(Random123::Random123 SYSTEM INTERFACE ${RANDOM123_INCLUDE_DIR})
+
+if(TRAINSIM_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(TRAINSIM_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

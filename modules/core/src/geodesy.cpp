@@ -1,0 +1,84 @@
+#include "trainsim/core/geodesy.hpp"
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "trainsim/core/error.hpp"
+
+namespace trainsim {
+
+Eigen::Vector3d enuToNed(const Eigen::Vector3d& p_enu) {
+  return {p_enu.y(), p_enu.x(), -p_enu.z()};
+}
+Eigen::Vector3d nedToEnu(const Eigen::Vector3d& p_ned) {
+  return {p_ned.y(), p_ned.x(), -p_ned.z()};
+}
+
+Eigen::Matrix3d rotationNedFromEnu() {
+  Eigen::Matrix3d r;
+  r << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  return r;
+}
+
+struct GeodeticAnchor::Impl {
+  GeographicLib::LocalCartesian local;
+};
+
+namespace {
+void checkGeodetic(const GeodeticPoint& p) {
+  if (!(std::abs(p.latitude_deg) <= 90.0)) {
+    throw ConfigError("latitude " + std::to_string(p.latitude_deg) + " deg is outside [-90, 90]");
+  }
+  if (!(std::abs(p.longitude_deg) <= 180.0)) {
+    throw ConfigError("longitude " + std::to_string(p.longitude_deg) +
+                      " deg is outside [-180, 180]");
+  }
+  if (!std::isfinite(p.height_m)) {
+    throw ConfigError("height is not a finite number");
+  }
+}
+}  // namespace
+
+GeodeticAnchor::GeodeticAnchor(const GeodeticPoint& origin)
+    : origin_(origin), impl_(std::make_unique<Impl>()) {
+  checkGeodetic(origin);
+  impl_->local.Reset(origin.latitude_deg, origin.longitude_deg, origin.height_m);
+}
+
+GeodeticAnchor::~GeodeticAnchor() = default;
+GeodeticAnchor::GeodeticAnchor(const GeodeticAnchor& other)
+    : origin_(other.origin_), impl_(std::make_unique<Impl>(*other.impl_)) {}
+GeodeticAnchor& GeodeticAnchor::operator=(const GeodeticAnchor& other) {
+  if (this != &other) {
+    origin_ = other.origin_;
+    impl_ = std::make_unique<Impl>(*other.impl_);
+  }
+  return *this;
+}
+
+Eigen::Vector3d GeodeticAnchor::toEnu(const GeodeticPoint& p) const {
+  Eigen::Vector3d enu;
+  impl_->local.Forward(p.latitude_deg, p.longitude_deg, p.height_m, enu.x(), enu.y(), enu.z());
+  return enu;
+}
+
+GeodeticPoint GeodeticAnchor::fromEnu(const Eigen::Vector3d& p_enu) const {
+  GeodeticPoint p;
+  impl_->local.Reverse(p_enu.x(), p_enu.y(), p_enu.z(), p.latitude_deg, p.longitude_deg,
+                       p.height_m);
+  return p;
+}
+
+Eigen::Matrix3d GeodeticAnchor::rotationAnchorFromLocalEnu(const Eigen::Vector3d& p_enu) const {
+  // LocalCartesian::Reverse returns M with v_anchor_enu = M * v_local_enu, row-major.
+  std::vector<double> m(9);
+  double lat = 0, lon = 0, h = 0;
+  impl_->local.Reverse(p_enu.x(), p_enu.y(), p_enu.z(), lat, lon, h, m);
+  Eigen::Matrix3d r;
+  r << m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8];
+  return r;
+}
+
+}  // namespace trainsim

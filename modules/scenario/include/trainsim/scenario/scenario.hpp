@@ -1,0 +1,64 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/scenario/schema.hpp"
+
+namespace trainsim::scenario {
+
+/// A scenario that failed validation; what() holds one "path: message" line per problem.
+class InvalidScenario : public ConfigError {
+ public:
+  InvalidScenario(std::string source, std::vector<Problem> problems);
+  const std::vector<Problem>& problems() const { return problems_; }
+  const std::string& source() const { return source_; }
+
+ private:
+  std::string source_;
+  std::vector<Problem> problems_;
+};
+
+/// Reads a scenario file, or standard input when `path` is "-". Throws ConfigError naming the
+/// file when it cannot be read.
+std::string readScenarioText(const std::string& path);
+
+/// Parses JSON text. Throws ConfigError "<source>:<line>:<column>: malformed JSON: <reason>".
+Json parseJson(std::string_view text, std::string_view source);
+
+/// A fully resolved scenario: validated, every default filled in. This is what runs and what
+/// is saved as OUT/scenario.json.
+class Scenario {
+ public:
+  /// Validates `input` against `schema`; throws InvalidScenario listing every problem.
+  static Scenario resolve(const Json& input, const Schema& schema, std::string source = "scenario");
+
+  const Json& json() const { return resolved_; }
+  /// Pretty-printed JSON (2-space indent, trailing newline): the bytes of OUT/scenario.json.
+  std::string text() const;
+  /// 16 hex digits identifying the resolved scenario (FNV-1a 64 of its compact JSON): a
+  /// fingerprint to tell runs apart, not a cryptographic digest.
+  std::string hash() const;
+
+  /// The value at a dotted path such as "dataset.frame_period_ns" or "sensors.imus[0].rate_hz".
+  /// Throws RuntimeError if the path is absent (a schema/code mismatch, not a user error).
+  const Json& at(std::string_view path) const;
+  template <typename T>
+  T get(std::string_view path) const {
+    return at(path).get<T>();
+  }
+
+  std::uint64_t seed() const { return get<std::uint64_t>("seed"); }
+
+ private:
+  explicit Scenario(Json resolved) : resolved_(std::move(resolved)) {}
+  Json resolved_;
+};
+
+/// Converts "a.b[2].c" to the JSON pointer "/a/b/2/c".
+Json::json_pointer pointerFromPath(std::string_view path);
+
+}  // namespace trainsim::scenario

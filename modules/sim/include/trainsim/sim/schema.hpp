@@ -1,0 +1,24 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "trainsim/scenario/scenario.hpp"
+#include "trainsim/scenario/schema.hpp"
+
+namespace trainsim::sim {
+
+/// The complete scenario schema: the general sections declared here plus every section the
+/// pipeline's modules and the sensor registry declare. Built once.
+const scenario::Schema& scenarioSchema();
+
+/// The built-in default scenario (configs/default.json, embedded in the binary at build time).
+std::string_view defaultScenarioText();
+
+/// Loads, validates and resolves a scenario: from `path` ("-" for standard input), or the
+/// built-in default when `path` is empty. `seed_override`, when given, replaces the
+/// scenario's seed. Throws ConfigError (InvalidScenario lists every problem).
+scenario::Scenario loadScenario(const std::string& path,
+                                std::optional<std::uint64_t> seed_override = std::nullopt);
+
+}  // namespace trainsim::sim

@@ -1,0 +1,59 @@
+#pragma once
+
+// Test doubles for the movement system and the dataset writer: a trajectory with a closed
+// form and a sensor whose output exercises every resume path (per-frame files, an append-only
+// CSV, random draws keyed by sample index, and state carried across checkpoints).
+
+#include <atomic>
+#include <string>
+
+#include "trainsim/core/random.hpp"
+#include "trainsim/sim/sensor.hpp"
+#include "trainsim/sim/trajectory.hpp"
+
+namespace trainsim::testing {
+
+/// Straight, level run along `heading_rad` (from east, counter-clockwise) at constant speed.
+class StraightTrajectory final : public sim::Trajectory {
+ public:
+  StraightTrajectory(TimeNs sample_period, std::int64_t samples, double speed_m_s,
+                     double heading_rad = 0.0)
+      : ts_(sample_period), n_(samples), v_(speed_m_s), heading_(heading_rad) {}
+  TimeNs samplePeriod() const override { return ts_; }
+  std::int64_t sampleCount() const override { return n_; }
+  sim::TrajectorySample sample(std::int64_t k) const override;
+
+ private:
+  TimeNs ts_;
+  std::int64_t n_;
+  double v_;
+  double heading_;
+};
+
+/// Writes, at each reading, `<name>/NNNNNN.bin` (payload_bytes of counter-based noise keyed by
+/// the sample index) and one line of `<name>.csv` with a random walk whose value is carried in
+/// state(). `delay_ms` slows it down so that a test can kill the process part-way.
+class NoiseSensor final : public sim::Sensor {
+ public:
+  NoiseSensor(std::string name, TimeNs period, std::uint64_t seed, std::size_t payload_bytes,
+              int delay_ms = 0);
+  std::string name() const override { return name_; }
+  std::string kind() const override { return "test_noise"; }
+  TimeNs period() const override { return period_; }
+  void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
+  void capture(std::int64_t k, const sim::TrajectorySample& sample) override;
+  nlohmann::json state() const override;
+
+ private:
+  std::string name_;
+  TimeNs period_;
+  RandomStream stream_;
+  std::size_t payload_bytes_;
+  int delay_ms_;
+  io::DatasetWriter* writer_ = nullptr;
+  io::AppendFile* csv_ = nullptr;
+  double walk_ = 0.0;
+  std::int64_t readings_ = 0;
+};
+
+}  // namespace trainsim::testing
