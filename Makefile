@@ -1,7 +1,7 @@
 # Two entry points for a fresh Debian 12 machine (see README.md):
 #   make run   install missing packages, build Release into build/, generate the default dataset
 #   make test  the same set-up, then the whole CTest suite
-# Extra: make test-asan (unit tests under AddressSanitizer + UBSan), make bench, make format,
+# Extra: make test-asan (unit tests under AddressSanitizer + UBSan), make bench (bench/), make format,
 #        make docs (regenerate docs/SCENARIO.md from the scenario schema).
 .PHONY: run test deps build test-asan bench format docs clean
 
@@ -24,7 +24,7 @@ test-asan: deps
 	ctest --preset asan
 
 bench: build
-	build/bin/trainsim bench
+	@for b in build/bin/bench_*; do echo "== $$b"; $$b; done
 
 format:
 	git ls-files '*.cpp' '*.hpp' '*.h' | xargs clang-format -i

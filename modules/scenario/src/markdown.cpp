@@ -104,8 +104,14 @@ std::string Schema::markdown() const {
   for (const auto& section : root_.fields) {
     if (section.type != ParamType::kObject)
       continue;
-    out << "\n## `" << section.key << "`\n\n" << section.description << "\n\n" << kHeader;
-    rows(section, section.key, out);
+    std::ostringstream table;
+    rows(section, section.key, table);
+    out << "\n## `" << section.key << "`\n\n" << section.description << "\n\n";
+    if (table.str().empty()) {
+      out << "No parameters are declared in this section yet.\n";
+    } else {
+      out << kHeader << table.str();
+    }
   }
   return out.str();
 }
