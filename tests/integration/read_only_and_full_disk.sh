@@ -45,6 +45,15 @@ for csv in "$WORK"/full/out/sequences/00/*.csv "$WORK"/full/out/sequences/00/*.t
 done
 pass "append files end on whole lines"
 
+# A disk already full before the first byte: the run fails and leaves no folder behind.
+mkdir -p "$WORK/tiny"
+mount -t tmpfs -o size=4k tmpfs "$WORK/tiny"
+head -c 4096 /dev/zero > "$WORK/tiny/filler" 2>/dev/null || true
+expect_exit 1 "generate onto a full disk" -- "$TRAINSIM" generate --out "$WORK/tiny/out"
+expect_contains "$WORK/err" "No space left on device" "full-disk reason given"
+[ ! -e "$WORK/tiny/out" ] && pass "no folder left behind" || fail "left $(ls -A "$WORK/tiny/out")"
+umount "$WORK/tiny"
+
 mount -o remount,size=8m "$WORK/full"
 expect_exit 0 "resume once space is freed" -- "$SYNTHETIC_RUN" "$WORK/full/out" --samples 400 --payload 16384 --resume
 if diff -r "$WORK/ref" "$WORK/full/out" >"$WORK/diff"; then pass "resumed dataset byte-identical"; else

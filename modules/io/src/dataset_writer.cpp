@@ -66,13 +66,29 @@ DatasetWriter::DatasetWriter(fs::path root, std::string sequence, const RunIdent
   if (policy.force && policy.resume) {
     throw ConfigError("--force and --resume exclude each other");
   }
+  std::error_code exists_ec;
+  const bool existed = fs::exists(root_, exists_ec);
   prepare(identity, policy);
-  if (start_ == Start::kAlreadyComplete)
+  if (start_ == Start::kAlreadyComplete) {
     return;
-  makeDirectories(sequence_dir_);
-  makeDirectories(root_ / kStateDir);
-  if (start_ == Start::kFresh) {
-    checkpoint(0, json());  // marks the folder as an interrupted run of ours from now on
+  }
+  try {
+    makeDirectories(sequence_dir_);
+    makeDirectories(root_ / kStateDir);
+    if (start_ == Start::kFresh) {
+      checkpoint(0, json());  // marks the folder as an interrupted run of ours from now on
+    }
+  } catch (const IoError&) {
+    // Leave nothing behind: a folder this writer created goes again; in an existing folder
+    // only the entries a fresh run creates are removed.
+    std::error_code ec;
+    if (!existed) {
+      fs::remove_all(root_, ec);
+    } else if (start_ == Start::kFresh) {
+      fs::remove_all(root_ / "sequences", ec);
+      fs::remove_all(root_ / kStateDir, ec);
+    }
+    throw;
   }
 }
 
