@@ -10,26 +10,13 @@
 #include <cmath>
 #include <vector>
 
+#include "../tests/support/fresnel_series.hpp"
 #include "trainsim/track/horizontal.hpp"
 
 namespace {
 
 using trainsim::track::HorizontalAlignment;
 using trainsim::track::HorizontalElement;
-
-Eigen::Vector2d fresnel(double s, double a2) {
-  long double x = 0, y = 0, fe = 1;
-  for (int n = 0; n < 14; ++n) {
-    if (n > 0)
-      fe *= (2.0L * n - 1) * (2.0L * n);
-    const long double fo = fe * (2.0L * n + 1), sign = n % 2 ? -1.0L : 1.0L;
-    x += sign * std::pow(static_cast<long double>(s), 4 * n + 1) /
-         ((4 * n + 1) * fe * std::pow(2.0L * a2, 2 * n));
-    y += sign * std::pow(static_cast<long double>(s), 4 * n + 3) /
-         ((4 * n + 3) * fo * std::pow(2.0L * a2, 2 * n + 1));
-  }
-  return {static_cast<double>(x), static_cast<double>(y)};
-}
 
 template <typename F>
 double nsPerCall(F&& f, int calls) {
@@ -69,7 +56,9 @@ int main() {
       double worst = 0;
       for (int i = 0; i <= 1000; ++i) {
         const double s = c.l * i / 1000.0;
-        worst = std::max(worst, (a.at(s).position_m - fresnel(s, c.r * c.l)).norm());
+        worst = std::max(
+            worst,
+            (a.at(s).position_m - trainsim::testing::clothoidFresnelSeries(s, c.r * c.l)).norm());
       }
       const double ns =
           nsPerCall([&](int i) { return a.at(c.l * (i % 997) / 997.0).position_m.x(); }, kCalls);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../support/fresnel_series.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/track/horizontal.hpp"
 
@@ -34,23 +35,7 @@ TEST(HorizontalAlignment, ArcFollowsItsCircle) {
   EXPECT_LT(right.at(100.0).position_m.y(), 0.0);  // negative radius turns right
 }
 
-// Clothoid from a straight (κ0 = 0) to radius R over L, starting at the origin heading east:
-// x = Σ (-1)^n s^(4n+1) / ((4n+1)(2n)! (2A²)^(2n)), y = Σ (-1)^n s^(4n+3) / ((4n+3)(2n+1)!
-// (2A²)^(2n+1)).
-Eigen::Vector2d fresnelSeries(double s, double a2) {
-  long double x = 0, y = 0, term_fact_even = 1, term_fact_odd = 1;
-  for (int n = 0; n < 12; ++n) {
-    if (n > 0)
-      term_fact_even *= (2.0L * n - 1) * (2.0L * n);
-    term_fact_odd = term_fact_even * (2.0L * n + 1);
-    const long double sign = n % 2 == 0 ? 1.0L : -1.0L;
-    x += sign * std::pow(static_cast<long double>(s), 4 * n + 1) /
-         ((4 * n + 1) * term_fact_even * std::pow(2.0L * a2, 2 * n));
-    y += sign * std::pow(static_cast<long double>(s), 4 * n + 3) /
-         ((4 * n + 3) * term_fact_odd * std::pow(2.0L * a2, 2 * n + 1));
-  }
-  return {static_cast<double>(x), static_cast<double>(y)};
-}
+using testing::clothoidFresnelSeries;
 
 TEST(HorizontalAlignment, ClothoidHasLinearCurvatureAndQuadraticHeading) {
   const double r = 1500.0, l = 110.0;
@@ -60,7 +45,7 @@ TEST(HorizontalAlignment, ClothoidHasLinearCurvatureAndQuadraticHeading) {
     EXPECT_NEAR(st.curvature_1_m, s / (r * l), 1e-18);
     EXPECT_NEAR(st.heading_rad, s * s / (2 * r * l), 1e-15);
     EXPECT_DOUBLE_EQ(st.curvature_rate_1_m2, 1.0 / (r * l));
-    EXPECT_LT((st.position_m - fresnelSeries(s, r * l)).norm(), 1e-9) << s;
+    EXPECT_LT((st.position_m - clothoidFresnelSeries(s, r * l)).norm(), 1e-9) << s;
   }
   // Reference-book end offset Y_L ≈ L²/(6R) − L⁴/(336R³); the first omitted term,
   // L⁶/(42240R⁵) ≈ 5.5e-9 m here, bounds the difference.
@@ -72,7 +57,7 @@ TEST(HorizontalAlignment, SharpClothoidMatchesFresnelSeries) {
   // A 190 m radius reached over 80 m: heading turns 0.21 rad, where truncated series fail.
   const double r = 190.0, l = 80.0;
   const HorizontalAlignment a({0, 0}, 0.0, {E::transition(l, 0.0, 1.0 / r)});
-  EXPECT_LT((a.at(l).position_m - fresnelSeries(l, r * l)).norm(), 1e-9);
+  EXPECT_LT((a.at(l).position_m - clothoidFresnelSeries(l, r * l)).norm(), 1e-9);
 }
 
 TEST(HorizontalAlignment, BlossHasZeroCurvatureRateAtBothEnds) {

@@ -104,13 +104,14 @@ std::string Schema::markdown() const {
   for (const auto& section : root_.fields) {
     if (section.type != ParamType::kObject)
       continue;
-    std::ostringstream table;
-    rows(section, section.key, table);
+    std::ostringstream table_stream;
+    rows(section, section.key, table_stream);
+    const std::string table = table_stream.str();
     out << "\n## `" << section.key << "`\n\n" << section.description << "\n\n";
-    if (table.str().empty()) {
+    if (table.empty()) {
       out << "No parameters are declared in this section yet.\n";
     } else {
-      out << kHeader << table.str();
+      out << kHeader << table;
     }
   }
   return out.str();
