@@ -1,0 +1,66 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "trainsim/track/horizontal.hpp"
+#include "trainsim/track/profile.hpp"
+
+namespace trainsim::track {
+
+/// Distance between rail-head centres on standard gauge, used in every cant formula.
+inline constexpr double kCantBase_m = 1.5;
+
+/// Axis about which the cant is applied. Rotating about the low (inner) rail lifts the
+/// centreline by |D|/2; rotating about the centreline keeps it at the profile height. (The
+/// inner-rail case also moves the centreline inward by (b/2)(1 − cos φ), at most 2.2 mm at
+/// 180 mm cant; that shift is neglected.) With linear ramps the inner-rail lift has a kink at
+/// each end of the ramp, so the vertical velocity steps there (by v ΔD'/2); Bloss ramps are
+/// smooth. Rotation about the centre is the default.
+enum class CantRotation { kInnerRail, kCentre };
+
+/// The track centreline at top of rail and its derivatives with respect to u, the distance
+/// along the track in 3D (the train's odometer distance).
+struct TrackPoint {
+  double chainage_m = 0.0;                             ///< s, horizontal chainage
+  double distance_m = 0.0;                             ///< u
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world ENU, m
+  Eigen::Vector3d d1 = Eigen::Vector3d::UnitX();       ///< dP/du
+  Eigen::Vector3d d2 = Eigen::Vector3d::Zero();        ///< d²P/du², 1/m
+  double heading_rad = 0.0;                            ///< ψ, from east counter-clockwise
+  double pitch_rad = 0.0;                              ///< θ of the vertical profile
+  double roll_rad = 0.0;                ///< φ = asin(D/b), positive with the left rail higher
+  double roll_d1 = 0.0;                 ///< dφ/du, rad/m
+  double roll_d2 = 0.0;                 ///< d²φ/du², rad/m²
+  double curvature_1_m = 0.0;           ///< horizontal curvature, signed positive left
+  double curvature_rate_1_m2 = 0.0;     ///< dκ/ds
+  double vertical_curvature_1_m = 0.0;  ///< dθ/du
+  double cant_m = 0.0;
+};
+
+/// A track in 3D: horizontal alignment, vertical profile and cant over the same chainage.
+class Track {
+ public:
+  Track(HorizontalAlignment horizontal, VerticalProfile vertical, CantProfile cant,
+        CantRotation rotation = CantRotation::kCentre);
+
+  const HorizontalAlignment& horizontal() const { return horizontal_; }
+  const VerticalProfile& vertical() const { return vertical_; }
+  const CantProfile& cant() const { return cant_; }
+  CantRotation cantRotation() const { return rotation_; }
+
+  /// Horizontal length (chainage of the end).
+  double length() const { return horizontal_.length(); }
+  /// Length along the track in 3D.
+  double distanceLength() const { return vertical_.at(length()).distance_m; }
+
+  TrackPoint atChainage(double s) const;
+  TrackPoint atDistance(double u) const { return atChainage(vertical_.chainageAt(u)); }
+
+ private:
+  HorizontalAlignment horizontal_;
+  VerticalProfile vertical_;
+  CantProfile cant_;
+  CantRotation rotation_;
+};
+
+}  // namespace trainsim::track

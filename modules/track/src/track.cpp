@@ -1,0 +1,73 @@
+#include "trainsim/track/track.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "trainsim/core/error.hpp"
+
+namespace trainsim::track {
+
+Track::Track(HorizontalAlignment horizontal, VerticalProfile vertical, CantProfile cant,
+             CantRotation rotation)
+    : horizontal_(std::move(horizontal)),
+      vertical_(std::move(vertical)),
+      cant_(std::move(cant)),
+      rotation_(rotation) {
+  if (vertical_.length() + 1e-6 < horizontal_.length())
+    throw ConfigError(fmt::format("vertical profile ({} m) is shorter than the alignment ({} m)",
+                                  vertical_.length(), horizontal_.length()));
+}
+
+TrackPoint Track::atChainage(double s) const {
+  const HorizontalState h = horizontal_.at(s);
+  const VerticalState v = vertical_.at(s);
+  const CantState d = cant_.at(s);
+  TrackPoint p;
+  p.chainage_m = s;
+  p.distance_m = v.distance_m;
+  p.heading_rad = h.heading_rad;
+  p.pitch_rad = v.pitch_rad;
+  p.curvature_1_m = h.curvature_1_m;
+  p.curvature_rate_1_m2 = h.curvature_rate_1_m2;
+  p.vertical_curvature_1_m = v.curvature_1_m;
+  p.cant_m = d.cant_m;
+
+  const double c = std::cos(v.pitch_rad);
+  const double sp = std::sin(v.pitch_rad);
+  const double k = v.curvature_1_m;
+  const double cpsi = std::cos(h.heading_rad);
+  const double spsi = std::sin(h.heading_rad);
+  const double kappa = h.curvature_1_m;
+  // ds/du = cos θ, d²s/du² = −sin θ k.
+  const double s_u = c;
+  const double s_uu = -sp * k;
+
+  // Centreline lift when the cant rotates about the inner rail: |D|/2.
+  double lift = 0.0, lift_s = 0.0, lift_ss = 0.0;
+  if (rotation_ == CantRotation::kInnerRail && d.cant_m != 0.0) {
+    const double sign = d.cant_m > 0.0 ? 1.0 : -1.0;
+    lift = 0.5 * std::abs(d.cant_m);
+    lift_s = 0.5 * sign * d.rate_m_per_m;
+    lift_ss = 0.5 * sign * d.rate2_1_m;
+  }
+  p.position << h.position_m.x(), h.position_m.y(), v.z_m + lift;
+  p.d1 << cpsi * c, spsi * c, sp + lift_s * s_u;
+  p.d2 << -spsi * kappa * c * c - cpsi * sp * k, cpsi * kappa * c * c - spsi * sp * k,
+      c * k + lift_ss * s_u * s_u + lift_s * s_uu;
+
+  const double b2 = kCantBase_m * kCantBase_m - d.cant_m * d.cant_m;
+  if (b2 <= 0.0)
+    throw RuntimeError(
+        fmt::format("cant {} m at chainage {} m exceeds the rail base", d.cant_m, s));
+  const double g = 1.0 / std::sqrt(b2);     // dφ/dD
+  const double g_d = d.cant_m * g * g * g;  // d²φ/dD²
+  const double d_u = d.rate_m_per_m * s_u;
+  const double d_uu = d.rate2_1_m * s_u * s_u + d.rate_m_per_m * s_uu;
+  p.roll_rad = std::asin(d.cant_m / kCantBase_m);
+  p.roll_d1 = g * d_u;
+  p.roll_d2 = g_d * d_u * d_u + g * d_uu;
+  return p;
+}
+
+}  // namespace trainsim::track
