@@ -11,6 +11,7 @@
 #include "trainsim/core/progress.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/generate.hpp"
+#include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
 
 namespace trainsim::cli {
@@ -95,11 +96,16 @@ void runPlan(const CommonOptions& args, const std::string& out) {
   if (ec) {
     throw IoError("cannot create folder " + out + ": " + ec.message());
   }
+  const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
   io::writeFileAtomic(std::filesystem::path(out) / "scenario.json", scenario.text());
-  logWarn(
-      "plan: route, layout, trajectory, terrain and objects are not built yet (issue #3 "
-      "onwards); only scenario.json was written");
-  logInfo(fmt::format("wrote {}/scenario.json", out));
+  sim::writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
+    io::writeFileAtomic(std::filesystem::path(out) / name, bytes);
+  });
+  logWarn("plan: terrain and objects are not built yet; wrote the route, layout and trajectory");
+  logInfo(
+      fmt::format("wrote {0}/scenario.json, {0}/railroad.json, {0}/trajectory.csv and "
+                  "{0}/design_report.json",
+                  out));
 }
 
 void runValidate(const std::string& path) {

@@ -6,6 +6,7 @@
 #include "trainsim/core/version.hpp"
 #include "trainsim/sim/frame_clock.hpp"
 #include "trainsim/sim/movement.hpp"
+#include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::sim {
@@ -40,7 +41,8 @@ nlohmann::json manifest(const scenario::Scenario& scenario, const std::string& s
 
 GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* trajectory,
                           std::vector<std::unique_ptr<Sensor>> sensors,
-                          const GenerateOptions& options, std::vector<std::string> not_run) {
+                          const GenerateOptions& options, std::vector<std::string> not_run,
+                          const std::function<void(io::DatasetWriter&)>& write_plan) {
   GenerateReport report;
   report.not_run = std::move(not_run);
   const std::string sequence = fmt::format("{:02}", scenario.get<int>("dataset.sequence"));
@@ -51,6 +53,8 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     return report;
   }
   writer.writeFile("scenario.json", scenario.text());
+  if (write_plan)
+    write_plan(writer);
 
   if (trajectory != nullptr) {
     const TimeNs frame_period = scenario.get<TimeNs>("dataset.frame_period_ns");
@@ -73,15 +77,19 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   // Stages of PRODUCT.md §1 that are not built yet. Each is removed from this list by the
   // change that implements it; the manifest and the CLI report them, so no run pretends.
   std::vector<std::string> not_run = {
-      "route, layout and trajectory (issue #3)",
       "terrain, objects and track assets",
       "inertial sensors: IMU, GNSS, odometer, balises (issue #4)",
       "LiDAR",
       "cameras",
   };
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(scenario);
-  // Without a trajectory there is nothing for the movement system to drive.
-  return runDataset(scenario, nullptr, std::move(sensors), options, std::move(not_run));
+  const std::unique_ptr<Plan> plan = makePlan(scenario);
+  return runDataset(scenario, plan->trajectory.get(), std::move(sensors), options,
+                    std::move(not_run), [&](io::DatasetWriter& writer) {
+                      writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
+                        writer.writeFile(name, bytes);
+                      });
+                    });
 }
 
 }  // namespace trainsim::sim

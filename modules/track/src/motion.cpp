@@ -109,7 +109,9 @@ MotionState MotionProfile::at(double t) const {
   MotionState m;
   m.jerk_m_s3 = (t - s.t0_s <= s.duration_s) ? j : 0.0;
   m.a_m_s2 = s.a0_m_s2 + j * dt;
-  m.v_m_s = std::max(0.0, s.v0_m_s + s.a0_m_s2 * dt + j * dt * dt / 2.0);
+  m.v_m_s = s.v0_m_s + s.a0_m_s2 * dt + j * dt * dt / 2.0;
+  if (m.v_m_s < 1e-12)  // rounding residue where the train comes to rest
+    m.v_m_s = 0.0;
   m.u_m = s.u0_m + s.v0_m_s * dt + s.a0_m_s2 * dt * dt / 2.0 + j * dt * dt * dt / 6.0;
   return m;
 }
@@ -221,8 +223,8 @@ MotionProfile planMotion(const Route& route, const std::vector<std::pair<double,
   for (std::size_t i = 0; i < n; ++i) {
     const Section& sec = sections[i];
     const double len = sec.u1 - sec.u0;
-    auto need = [&](double vp) {
-      return accel[i].distance(w[i], vp) + brake.distance(vp, w[i + 1]);
+    auto need = [&](double top) {
+      return accel[i].distance(w[i], top) + brake.distance(top, w[i + 1]);
     };
     double lo = std::max(w[i], w[i + 1]), hi = sec.limit;
     if (need(hi) <= len) {

@@ -45,7 +45,12 @@ std::vector<std::string> splitCsv(const std::string& line) {
 
 std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
                                     const GeodeticAnchor& anchor) {
-  const std::string text = io::readFile(csv);
+  std::string text;
+  try {
+    text = io::readFile(csv);
+  } catch (const IoError& e) {  // a missing or unreadable input file is bad input: exit 2
+    throw ConfigError(std::string("waypoint file: ") + e.what());
+  }
   const std::string where = csv.string();
   std::istringstream in(text);
   std::string line;

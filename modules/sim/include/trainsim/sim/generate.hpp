@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,10 +45,12 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
 
 /// The run stage alone on a given trajectory with the given sensors (plus the frame clock):
 /// opens the dataset folder, writes scenario.json, runs the movement system and writes the
-/// manifest. generate() calls it once the route stage exists; tests call it with synthetic
-/// trajectories and sensors.
+/// manifest; `write_plan`, when given, writes the plan's files after scenario.json.
+/// generate() calls it with the planned trajectory; tests call it with synthetic trajectories
+/// and sensors.
 GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* trajectory,
                           std::vector<std::unique_ptr<Sensor>> sensors,
-                          const GenerateOptions& options, std::vector<std::string> not_run = {});
+                          const GenerateOptions& options, std::vector<std::string> not_run = {},
+                          const std::function<void(io::DatasetWriter&)>& write_plan = {});
 
 }  // namespace trainsim::sim

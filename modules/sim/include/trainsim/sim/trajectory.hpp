@@ -18,7 +18,9 @@ struct TrajectorySample {
   Eigen::Quaterniond q_world_body = Eigen::Quaterniond::Identity();
   Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
   Eigen::Vector3d a_world = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_body = Eigen::Vector3d::Zero();  ///< angular velocity in body axes, rad/s
+  Eigen::Vector3d w_body = Eigen::Vector3d::Zero();      ///< angular velocity in body axes, rad/s
+  Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();  ///< angular acceleration, body axes
+  double speed_m_s = 0.0;                                ///< along the track
 };
 
 /// Ground truth sampled at the fixed period T_S: sample k is at t = k * T_S. The movement

@@ -1,0 +1,316 @@
+#include "trainsim/sim/plan.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/geodesy.hpp"
+#include "trainsim/core/log.hpp"
+
+namespace trainsim::sim {
+namespace {
+
+double kmh(double v) {
+  return v / 3.6;
+}
+
+track::DesignRules designRules(const scenario::Scenario& sc) {
+  track::DesignRules r;
+  r.design_speed_m_s = kmh(sc.get<double>("design.design_speed_km_h"));
+  r.max_cant_m = sc.get<double>("design.max_cant_mm") * 1e-3;
+  r.max_cant_deficiency_m = sc.get<double>("design.max_cant_deficiency_mm") * 1e-3;
+  r.max_cant_rate_m_s = sc.get<double>("design.max_cant_rate_mm_s") * 1e-3;
+  r.max_deficiency_rate_m_s = sc.get<double>("design.max_deficiency_rate_mm_s") * 1e-3;
+  r.max_cant_gradient = sc.get<double>("design.max_cant_gradient_mm_m") * 1e-3;
+  r.min_element_duration_s = sc.get<double>("design.min_element_duration_s");
+  r.max_grade = sc.get<double>("design.max_grade_permille") * 1e-3;
+  r.max_vertical_accel_m_s2 = sc.get<double>("design.max_vertical_accel_m_s2");
+  r.station_max_grade = sc.get<double>("design.station_max_grade_permille") * 1e-3;
+  r.station_max_cant_m = sc.get<double>("design.station_max_cant_mm") * 1e-3;
+  r.station_speed_m_s = kmh(sc.get<double>("design.station_speed_km_h"));
+  r.tunnel_speed_m_s = kmh(sc.get<double>("design.tunnel_speed_km_h"));
+  r.bridge_speed_m_s = kmh(sc.get<double>("design.bridge_speed_km_h"));
+  return r;
+}
+
+track::SpecialBlockParams special(const scenario::Scenario& sc, const std::string& key) {
+  const std::string p = "route.generator." + key + ".";
+  return {sc.get<double>(p + "probability"), sc.get<double>(p + "length_min_m"),
+          sc.get<double>(p + "length_max_m")};
+}
+
+track::RouteGeneratorParams generatorParams(const scenario::Scenario& sc) {
+  track::RouteGeneratorParams g;
+  g.length_m = sc.get<double>("route.generator.length_m");
+  g.radius_min_m = sc.get<double>("route.generator.radius_min_m");
+  g.radius_max_m = sc.get<double>("route.generator.radius_max_m");
+  g.curve_share = sc.get<double>("route.generator.curve_share");
+  g.arc_length_min_m = sc.get<double>("route.generator.arc_length_min_m");
+  g.arc_length_max_m = sc.get<double>("route.generator.arc_length_max_m");
+  g.station = special(sc, "station");
+  g.tunnel = special(sc, "tunnel");
+  g.bridge = special(sc, "bridge");
+  g.grade_max = sc.get<double>("route.generator.grade_max_permille") * 1e-3;
+  g.grade_length_min_m = sc.get<double>("route.generator.grade_length_min_m");
+  g.grade_length_max_m = sc.get<double>("route.generator.grade_length_max_m");
+  return g;
+}
+
+track::LayoutParams layoutParams(const scenario::Scenario& sc) {
+  track::LayoutParams l;
+  l.double_track = sc.get<bool>("layout.double_track");
+  l.track_centre_distance_m = sc.get<double>("layout.track_centre_distance_m");
+  l.polyline_spacing_m = sc.get<double>("layout.polyline_spacing_m");
+  l.aux_probability = sc.get<double>("layout.auxiliary.probability");
+  l.aux_parallel_min_m = sc.get<double>("layout.auxiliary.parallel_min_m");
+  l.aux_parallel_max_m = sc.get<double>("layout.auxiliary.parallel_max_m");
+  l.turnout_probability = sc.get<double>("layout.auxiliary.turnout_probability");
+  l.turnout = sc.get<std::string>("layout.auxiliary.turnout");
+  l.dead_end_length_m = sc.get<double>("layout.auxiliary.dead_end_length_m");
+  const std::string side = sc.get<std::string>("layout.auxiliary.side");
+  l.side = side == "left"    ? track::AuxSide::kLeft
+           : side == "right" ? track::AuxSide::kRight
+                             : track::AuxSide::kEither;
+  return l;
+}
+
+track::TrainDynamics dynamics(const scenario::Scenario& sc) {
+  track::TrainDynamics d;
+  d.enabled = sc.get<bool>("train.dynamics.enabled");
+  d.mass_kg = sc.get<double>("train.dynamics.mass_kg");
+  d.rotating_mass_factor = sc.get<double>("train.dynamics.rotating_mass_factor");
+  d.davis_a_n = sc.get<double>("train.dynamics.davis_a_n");
+  d.davis_b_n_s_m = sc.get<double>("train.dynamics.davis_b_n_s_m");
+  d.davis_c_n_s2_m2 = sc.get<double>("train.dynamics.davis_c_n_s2_m2");
+  d.max_traction_n = sc.get<double>("train.dynamics.max_traction_n");
+  d.max_power_w = sc.get<double>("train.dynamics.max_power_w");
+  return d;
+}
+
+}  // namespace
+
+TrainTrajectory::TrainTrajectory(const track::Track& track, const track::MotionProfile& motion,
+                                 track::VehicleGeometry vehicle, Eigen::Vector3d reference_point,
+                                 TimeNs period)
+    : track_(track),
+      motion_(motion),
+      vehicle_(vehicle),
+      reference_(std::move(reference_point)),
+      period_(period),
+      // Up to the first sample at or after the end of the run, where the train is at rest.
+      count_(static_cast<std::int64_t>(std::ceil(motion.duration() / toSeconds(period))) + 1) {}
+
+track::MotionState TrainTrajectory::motion(std::int64_t k) const {
+  return motion_.at(toSeconds(k * period_));
+}
+
+track::BodyState TrainTrajectory::body(std::int64_t k) const {
+  return track::bodyState(track_, vehicle_, motion(k));
+}
+
+TrajectorySample TrainTrajectory::sample(std::int64_t k) const {
+  const track::MotionState m = motion(k);
+  const track::BodyState b = track::bodyState(track_, vehicle_, m);
+  TrajectorySample s;
+  s.t_ns = k * period_;
+  s.chainage_m = b.front_track.chainage_m;
+  s.p_world = b.pointPosition(reference_);
+  s.q_world_body = Eigen::Quaterniond(b.r_world_body);
+  s.v_world = b.pointVelocity(reference_);
+  s.a_world = b.pointAcceleration(reference_);
+  s.w_body = b.w_body;
+  s.alpha_body = b.alpha_body;
+  s.speed_m_s = m.v_m_s;
+  return s;
+}
+
+std::unique_ptr<Plan> makePlan(const scenario::Scenario& sc) {
+  track::RouteOptions opt;
+  opt.rules = designRules(sc);
+  opt.transition_shape = sc.get<std::string>("route.transition_shape") == "bloss"
+                             ? track::TransitionShape::kBloss
+                             : track::TransitionShape::kClothoid;
+  opt.cant_rotation = sc.get<std::string>("route.cant_rotation") == "centre"
+                          ? track::CantRotation::kCentre
+                          : track::CantRotation::kInnerRail;
+  opt.station_stops = sc.get<bool>("route.station_stops");
+  opt.station_dwell_s = sc.get<double>("route.station_dwell_s");
+
+  auto route_of = [&]() {
+    if (sc.get<std::string>("route.source") != "waypoints")
+      return track::generateRoute(generatorParams(sc), opt, sc.seed());
+    const GeodeticAnchor anchor({sc.get<double>("geodetic_origin.latitude_deg"),
+                                 sc.get<double>("geodetic_origin.longitude_deg"),
+                                 sc.get<double>("geodetic_origin.height_m")});
+    track::WaypointParams wp;
+    wp.radius_max_m = sc.get<double>("route.waypoint_radius_max_m");
+    return track::importWaypoints(sc.get<std::string>("route.waypoints_file"), anchor, wp, opt);
+  };
+  std::unique_ptr<Plan> plan(new Plan{opt, route_of(), {}, {}, {}, {}, nullptr});
+  const track::Route& route = plan->route.route;
+  plan->violations = plan->route.fitting;
+  for (track::Violation& v : track::checkDesign(route, opt.rules))
+    plan->violations.push_back(std::move(v));
+
+  const track::LayoutParams lp = layoutParams(sc);
+  plan->layout = track::buildLayout(route, lp, sc.seed());
+  for (const track::ClearanceIssue& c :
+       track::checkClearance(plan->layout, lp.track_centre_distance_m)) {
+    plan->violations.push_back(
+        {"track_clearance", 0.0, 0.0, -1, c.clearance_m, lp.track_centre_distance_m, "m",
+         fmt::format("track {} comes within {:.3f} m of track {} at {:.1f} m along it", c.track_id,
+                     c.clearance_m, c.other_track_id, c.distance_along_m)});
+  }
+  std::stable_sort(plan->violations.begin(), plan->violations.end(),
+                   [](const track::Violation& a, const track::Violation& b) {
+                     return a.chainage_begin_m < b.chainage_begin_m;
+                   });
+
+  plan->limits.accel_m_s2 = sc.get<double>("train.max_accel_m_s2");
+  plan->limits.brake_m_s2 = sc.get<double>("train.max_brake_m_s2");
+  plan->limits.jerk_m_s3 = sc.get<double>("train.max_jerk_m_s3");
+  plan->limits.train_length_m = sc.get<double>("train.length_m");
+  track::VehicleGeometry vehicle;
+  vehicle.bogie_spacing_m = sc.get<double>("train.bogie_spacing_m");
+  const double u_length = route.track.distanceLength();
+  const double u_start = vehicle.bogie_spacing_m;
+  const double u_end = u_length - 1.0;
+  if (u_end <= u_start + 1.0)
+    throw ConfigError("train.bogie_spacing_m: the route is too short for the train");
+  plan->motion =
+      track::planMotion(route, plan->route.stops, plan->limits, dynamics(sc), u_start, u_end);
+  const Eigen::Vector3d reference(sc.get<double>("train.reference_point.x_m"),
+                                  sc.get<double>("train.reference_point.y_m"),
+                                  sc.get<double>("train.reference_point.z_m"));
+  plan->trajectory = std::make_unique<TrainTrajectory>(
+      route.track, plan->motion, vehicle, reference, sc.get<TimeNs>("trajectory.sample_period_ns"));
+  logInfo(fmt::format(
+      "plan: route {:.0f} m, {} blocks, {} tracks, {} design-rule violations, "
+      "run of {:.1f} s ({} samples)",
+      route.track.length(), route.blocks.size(), plan->layout.tracks.size(),
+      plan->violations.size(), plan->motion.duration(), plan->trajectory->sampleCount()));
+  return plan;
+}
+
+std::string railroadJson(const Plan& plan) {
+  nlohmann::json tracks = nlohmann::json::array();
+  for (const track::LayoutTrack& t : plan.layout.tracks) {
+    nlohmann::json blocks = nlohmann::json::array();
+    for (const track::LayoutBlock& b : t.blocks) {
+      nlohmann::json jb = {{"type", b.type}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
+      if (!b.part.empty())
+        jb["part"] = b.part;
+      if (b.main_block_id >= 0)
+        jb["main_block_id"] = b.main_block_id;
+      blocks.push_back(std::move(jb));
+    }
+    nlohmann::json polyline = nlohmann::json::array();
+    for (const Eigen::Vector3d& p : t.polyline)
+      polyline.push_back({std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6,
+                          std::round(p.z() * 1e6) / 1e6});
+    nlohmann::json jt = {{"id", t.id},
+                         {"kind", t.kind},
+                         {"offset_m", t.offset_m},
+                         {"main_chainage_begin_m", t.main_chainage_begin_m},
+                         {"main_chainage_end_m", t.main_chainage_end_m},
+                         {"blocks", blocks},
+                         {"polyline_m", polyline}};
+    if (t.joins_track >= 0)
+      jt["joins_track"] = t.joins_track;
+    tracks.push_back(std::move(jt));
+  }
+  nlohmann::json main_blocks = nlohmann::json::array();
+  for (const track::Block& b : plan.route.route.blocks) {
+    main_blocks.push_back({{"id", b.id},
+                           {"type", std::string(track::blockTypeName(b.type))},
+                           {"chainage_begin_m", b.chainage_begin_m},
+                           {"chainage_end_m", b.chainage_end_m},
+                           {"speed_limit_m_s", b.speed_limit_m_s},
+                           {"radius_m", b.radius_m},
+                           {"cant_m", b.cant_m},
+                           {"stop", b.stop}});
+  }
+  const nlohmann::json doc = {
+      {"format", "trainsim-railroad"},
+      {"frame", "world ENU at geodetic_origin, metres; z is height relative to the origin"},
+      {"main_track", {{"length_m", plan.route.route.track.length()}, {"blocks", main_blocks}}},
+      {"tracks", tracks}};
+  return doc.dump(1) + "\n";
+}
+
+std::string designReportJson(const Plan& plan) {
+  nlohmann::json list = nlohmann::json::array();
+  std::map<std::string, int> counts;
+  for (const track::Violation& v : plan.violations) {
+    ++counts[v.rule];
+    list.push_back({{"rule", v.rule},
+                    {"chainage_begin_m", v.chainage_begin_m},
+                    {"chainage_end_m", v.chainage_end_m},
+                    {"block_id", v.block_id},
+                    {"value", v.value},
+                    {"limit", v.limit},
+                    {"unit", v.unit},
+                    {"message", v.message}});
+  }
+  const track::DesignRules& r = plan.options.rules;
+  const nlohmann::json doc = {{"format", "trainsim-design-report"},
+                              {"design_speed_km_h", r.design_speed_m_s * 3.6},
+                              {"min_radius_m", r.minRadius(r.design_speed_m_s)},
+                              {"min_vertical_radius_m", r.minVerticalRadius(r.design_speed_m_s)},
+                              {"route_length_m", plan.route.route.track.length()},
+                              {"violation_count", plan.violations.size()},
+                              {"violations_by_rule", counts},
+                              {"violations", list}};
+  return doc.dump(2) + "\n";
+}
+
+std::string trajectoryCsv(const Plan& plan) {
+  const TrainTrajectory& traj = *plan.trajectory;
+  const track::Route& route = plan.route.route;
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out),
+                 "t_ns,chainage_m,distance_m,speed_m_s,accel_m_s2,jerk_m_s3,speed_limit_m_s,"
+                 "front_x_m,front_y_m,front_z_m,rear_x_m,rear_y_m,rear_z_m,x_m,y_m,z_m,"
+                 "yaw_rad,pitch_rad,roll_rad,ve_m_s,vn_m_s,vu_m_s,ae_m_s2,an_m_s2,au_m_s2,"
+                 "vx_m_s,vy_m_s,vz_m_s,ax_m_s2,ay_m_s2,az_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,"
+                 "alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2,curvature_1_m,cant_m,block_id,"
+                 "track_id\n");
+  const Eigen::Vector3d& ref = traj.referencePoint();
+  for (std::int64_t k = 0; k < traj.sampleCount(); ++k) {
+    const track::MotionState m = traj.motion(k);
+    const track::BodyState b = traj.body(k);
+    const Eigen::Vector3d p = b.pointPosition(ref);
+    const Eigen::Vector3d v = b.pointVelocity(ref);
+    const Eigen::Vector3d a = b.pointAcceleration(ref);
+    const Eigen::Vector3d vb = b.r_world_body.transpose() * v;
+    const Eigen::Vector3d ab = b.r_world_body.transpose() * a;
+    const track::TrackPoint& f = b.front_track;
+    fmt::format_to(std::back_inserter(out),
+                   "{},{:.6f},{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},"
+                   "{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},"
+                   "{:.12g},{:.12g},{:.12g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+                   "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+                   "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},0\n",
+                   k * traj.samplePeriod(), f.chainage_m, m.u_m, m.v_m_s, m.a_m_s2, m.jerk_m_s3,
+                   plan.motion.limit().at(m.u_m), b.front.x(), b.front.y(), b.front.z(), b.rear.x(),
+                   b.rear.y(), b.rear.z(), p.x(), p.y(), p.z(), b.yaw_rad, b.pitch_rad, b.roll_rad,
+                   v.x(), v.y(), v.z(), a.x(), a.y(), a.z(), vb.x(), vb.y(), vb.z(), ab.x(), ab.y(),
+                   ab.z(), b.w_body.x(), b.w_body.y(), b.w_body.z(), b.alpha_body.x(),
+                   b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
+                   route.blockAt(f.chainage_m).id);
+  }
+  return fmt::to_string(out);
+}
+
+void writePlan(const Plan& plan,
+               const std::function<void(const std::string&, const std::string&)>& write) {
+  write("railroad.json", railroadJson(plan));
+  write("design_report.json", designReportJson(plan));
+  write("trajectory.csv", trajectoryCsv(plan));
+}
+
+}  // namespace trainsim::sim

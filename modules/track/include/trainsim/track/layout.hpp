@@ -1,0 +1,122 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trainsim/track/route.hpp"
+
+namespace trainsim::track {
+
+/// A simple turnout: diverging-track radius at the track centreline and crossing angle
+/// tan α = 1/ratio (rail-imu-reference.md §1.5).
+struct Turnout {
+  std::string name;
+  double radius_m;
+  double ratio;  ///< n of 1:n
+};
+
+/// Known turnouts: "190-1:9" (R 190 m, 1:9) and "500-1:12" (R 500 m, 1:12). Throws ConfigError
+/// naming `layout.turnout` for any other name.
+Turnout turnoutByName(const std::string& name);
+
+/// Which side of the main track auxiliary tracks are laid on (seen in the direction of
+/// increasing chainage).
+enum class AuxSide { kLeft, kRight, kEither };
+
+/// Parameters of the multi-track generator. Lengths in m, along main chainage unless noted.
+struct LayoutParams {
+  bool double_track = true;              ///< a second track on the right of the main track
+  double track_centre_distance_m = 4.0;  ///< d, between neighbouring track centrelines
+  double polyline_spacing_m = 2.0;       ///< largest 3D distance between polyline points
+  double aux_probability = 0.3;          ///< per eligible stretch of the main track
+  double aux_parallel_min_m = 300.0;     ///< length of the parallel part
+  double aux_parallel_max_m = 800.0;
+  double turnout_probability =
+      0.5;  ///< per end: turnout from the neighbouring track, else dead end
+  std::string turnout = "190-1:9";
+  double dead_end_length_m = 40.0;  ///< the dead-end straight of an entering/outgoing part (plan)
+  AuxSide side = AuxSide::kEither;
+};
+
+/// A stretch of one layout track with one type.
+struct LayoutBlock {
+  /// "straight", "curve", "station", "tunnel", "bridge" for the main and double track (the
+  /// main block's type); for auxiliary parts: "dead_end" (the straight ending at the buffer
+  /// stop), "turnout" (the diverging arc of the turnout and the straight diagonal after it),
+  /// "curve" (the arc that turns the track parallel, or away from it) and "parallel".
+  std::string type;
+  std::string part;      ///< "" for main/double; "entering", "parallel", "outgoing" otherwise
+  double begin_m = 0.0;  ///< distance along this track's own polyline
+  double end_m = 0.0;
+  /// The main-track block alongside, where there is one (main and double track: the route
+  /// block this block copies).
+  int main_block_id = -1;
+};
+
+/// One track of the layout as a polyline in the world frame (ENU, m).
+struct LayoutTrack {
+  int id = 0;
+  std::string kind;       ///< "main", "double", "auxiliary"
+  int joins_track = -1;   ///< id of the track a turnout connects it to (auxiliary), else -1
+  double offset_m = 0.0;  ///< lateral offset of the parallel part from the main track (+ left)
+  double main_chainage_begin_m = 0.0, main_chainage_end_m = 0.0;  ///< main chainage it spans
+  std::vector<LayoutBlock> blocks;
+  std::vector<Eigen::Vector3d> polyline;  ///< world points, 3D spacing <= polyline_spacing_m
+  std::vector<double> distance_m;         ///< along-polyline (3D chord) distance of each point
+  /// Along this polyline: stretches inside a turnout connection (closer than the track-centre
+  /// distance by design).
+  std::vector<std::pair<double, double>> turnout_ranges_m;
+};
+
+/// All tracks; tracks[0] is the main track, then the double track (if any), then the
+/// auxiliary tracks in the order they were placed. A track's id is its index.
+struct Layout {
+  std::vector<LayoutTrack> tracks;
+};
+
+/// Builds the main track, the optional double track and random auxiliary tracks along `route`
+/// (the multi-track generator of the paper, §"Multi-tracks generation"). A pure function of
+/// (route, params, seed); random draws come from the stream "layout.auxiliary".
+///
+/// - Main track: `route.track` sampled at every block boundary and at most
+///   `polyline_spacing_m` apart; its blocks are route.blocks.
+/// - Double track: the normal offset −d of the main centreline (on the right), z equal to the
+///   main z at the same chainage; its blocks mirror the main blocks.
+/// - Auxiliary tracks: laid beside straight horizontal elements of the main track (κ = 0),
+///   never alongside tunnels, bridges or switches. Left: offset +d, joins the main track.
+///   Right: offset −2d joining the double track, or −d joining the main track without one.
+///   Each has an entering, a parallel and an outgoing part; each end is independently either a
+///   turnout from the neighbouring track (diverging arc R through α, straight diagonal
+///   L_s = (d − 2R(1 − cos α)) / sin α, reverse arc R; §1.5) or a dead end (a straight of
+///   `dead_end_length_m` angled at α away from the neighbouring track and an arc R turning it
+///   parallel, so the buffer stop lies outside the parallel part). Auxiliary tracks on the
+///   same side keep max(20 m, d) of chainage between them. A candidate that would come closer
+///   than d to another track (possible only where the route runs back close to itself) is
+///   dropped.
+/// - Not implemented: the paper's rule for curved main blocks (an entering/outgoing part made
+///   of a single straight leaving the curve on its outer side); stretches beside curves and
+///   transitions get no auxiliary tracks.
+///
+/// Throws ConfigError naming the `layout.*` field for invalid parameters, including a
+/// track-centre distance too small for the turnout (L_s < 0) when turnouts can be placed.
+Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t seed);
+
+/// A polyline point of an auxiliary track too close to another track.
+struct ClearanceIssue {
+  int track_id;
+  int other_track_id;       ///< the nearest track closer than the limit
+  double distance_along_m;  ///< of the point, along track_id's polyline
+  double clearance_m;       ///< its 3D distance to other_track_id's polyline
+};
+
+/// Every polyline point of an auxiliary track (outside its turnout_ranges_m) closer than
+/// `min_distance_m - 1e-6` to any other track's polyline (3D point-to-segment distance), one
+/// issue per point, reporting the nearest such track. Empty when the layout is sound. Uses a
+/// uniform grid hash over the segments (plan cells of size >= min_distance_m).
+std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_distance_m);
+
+}  // namespace trainsim::track

@@ -1,0 +1,583 @@
+#include "trainsim/track/layout.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/random.hpp"
+
+namespace trainsim::track {
+
+Turnout turnoutByName(const std::string& name) {
+  static const Turnout kKnown[] = {{"190-1:9", 190.0, 9.0}, {"500-1:12", 500.0, 12.0}};
+  for (const Turnout& t : kKnown)
+    if (t.name == name)
+      return t;
+  throw ConfigError(fmt::format(
+      "layout.turnout: unknown turnout \"{}\" (known: \"190-1:9\", \"500-1:12\")", name));
+}
+
+namespace {
+
+constexpr double kSameSideGap_m = 20.0;
+constexpr double kClearanceTolerance_m = 1e-6;
+
+// ---------------------------------------------------------------------------------------------
+// Clearance: a uniform plan-view grid over polyline segments.
+
+double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+class SegmentGrid {
+ public:
+  explicit SegmentGrid(double cell_m) : cell_(cell_m) {}
+
+  void add(const LayoutTrack& track, int track_index) {
+    for (std::size_t i = 0; i + 1 < track.polyline.size(); ++i) {
+      const Eigen::Vector3d& a = track.polyline[i];
+      const Eigen::Vector3d& b = track.polyline[i + 1];
+      const auto index = static_cast<std::uint32_t>(segments_.size());
+      segments_.push_back({a, b, track_index});
+      const std::int64_t x0 = cellOf(std::min(a.x(), b.x())), x1 = cellOf(std::max(a.x(), b.x()));
+      const std::int64_t y0 = cellOf(std::min(a.y(), b.y())), y1 = cellOf(std::max(a.y(), b.y()));
+      for (std::int64_t ix = x0; ix <= x1; ++ix)
+        for (std::int64_t iy = y0; iy <= y1; ++iy)
+          cells_[key(ix, iy)].push_back(index);
+    }
+  }
+
+  /// Smallest distance from p to a segment of a track other than `exclude`, among segments
+  /// within `radius_m` of p in plan (and the track it belongs to); infinity and -1 if none.
+  std::pair<double, int> nearest(const Eigen::Vector3d& p, double radius_m, int exclude) const {
+    std::pair<double, int> best{std::numeric_limits<double>::infinity(), -1};
+    const std::int64_t x0 = cellOf(p.x() - radius_m), x1 = cellOf(p.x() + radius_m);
+    const std::int64_t y0 = cellOf(p.y() - radius_m), y1 = cellOf(p.y() + radius_m);
+    for (std::int64_t ix = x0; ix <= x1; ++ix) {
+      for (std::int64_t iy = y0; iy <= y1; ++iy) {
+        const auto it = cells_.find(key(ix, iy));
+        if (it == cells_.end())
+          continue;
+        for (std::uint32_t index : it->second) {
+          const Segment& s = segments_[index];
+          if (s.track == exclude)
+            continue;
+          const double dist = pointSegmentDistance(p, s.a, s.b);
+          if (dist < best.first)
+            best = {dist, s.track};
+        }
+      }
+    }
+    return best;
+  }
+
+ private:
+  struct Segment {
+    Eigen::Vector3d a, b;
+    int track;
+  };
+  std::int64_t cellOf(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  static std::uint64_t key(std::int64_t ix, std::int64_t iy) {
+    return (static_cast<std::uint64_t>(ix) << 32) ^ static_cast<std::uint32_t>(iy);
+  }
+
+  double cell_;
+  std::vector<Segment> segments_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
+bool inRanges(double u, const std::vector<std::pair<double, double>>& ranges) {
+  for (const auto& [a, b] : ranges)
+    if (u >= a - 1e-9 && u <= b + 1e-9)
+      return true;
+  return false;
+}
+
+// Issues of one track's points (outside its turnout ranges) against the grid, which holds
+// `tracks` by index.
+void collectIssues(const LayoutTrack& track, int track_index,
+                   const std::vector<LayoutTrack>& tracks, const SegmentGrid& grid,
+                   double min_distance_m, std::vector<ClearanceIssue>& out) {
+  for (std::size_t i = 0; i < track.polyline.size(); ++i) {
+    if (inRanges(track.distance_m[i], track.turnout_ranges_m))
+      continue;
+    const auto [dist, other] = grid.nearest(track.polyline[i], min_distance_m, track_index);
+    if (dist < min_distance_m - kClearanceTolerance_m)
+      out.push_back(
+          {track.id, tracks[static_cast<std::size_t>(other)].id, track.distance_m[i], dist});
+  }
+}
+
+double gridCell(double min_distance_m) {
+  return std::max(min_distance_m, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sampling tracks into polylines.
+
+// A stretch of one layout track between two main chainages, with the block it belongs to.
+struct Interval {
+  double x0 = 0.0, x1 = 0.0;  // main chainage
+  std::string type, part;
+  int main_block_id = -1;
+  bool in_turnout = false;
+  int piece = -1;  // auxiliary tracks: the geometric piece that gives the offset
+};
+
+using PointFn = std::function<Eigen::Vector3d(const Interval&, double)>;
+
+// Appends point(x) for x in (x0, x1] uniformly in x, with just enough points for every 3D
+// chord to be at most `spacing_m` (re-sampled more finely until it is).
+void appendInterval(const PointFn& point, const Interval& iv, double spacing_m,
+                    std::vector<Eigen::Vector3d>& out) {
+  const Eigen::Vector3d p0 = out.back();
+  const Eigen::Vector3d p1 = point(iv, iv.x1);
+  const double estimate = std::max((p1 - p0).norm(), iv.x1 - iv.x0) * 1.001;
+  auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(estimate / spacing_m)));
+  std::vector<Eigen::Vector3d> pts;
+  for (;;) {
+    pts.clear();
+    double max_chord = 0.0;
+    Eigen::Vector3d prev = p0;
+    for (std::size_t i = 1; i <= n; ++i) {
+      const Eigen::Vector3d q =
+          i == n ? p1 : point(iv, iv.x0 + (iv.x1 - iv.x0) * static_cast<double>(i) / n);
+      max_chord = std::max(max_chord, (q - prev).norm());
+      pts.push_back(q);
+      prev = q;
+    }
+    if (max_chord <= spacing_m)
+      break;
+    n = std::max(n + 1, static_cast<std::size_t>(std::ceil(n * max_chord / spacing_m * 1.001)));
+  }
+  out.insert(out.end(), pts.begin(), pts.end());
+}
+
+// Fills the track's polyline, distances, blocks and turnout ranges from consecutive intervals.
+// Consecutive intervals with the same labels form one block.
+void sampleTrack(const std::vector<Interval>& intervals, const PointFn& point, double spacing_m,
+                 LayoutTrack& track) {
+  track.polyline.clear();
+  track.polyline.push_back(point(intervals.front(), intervals.front().x0));
+  std::vector<std::size_t> break_index{0};
+  for (const Interval& iv : intervals) {
+    appendInterval(point, iv, spacing_m, track.polyline);
+    break_index.push_back(track.polyline.size() - 1);
+  }
+  track.distance_m.assign(track.polyline.size(), 0.0);
+  for (std::size_t i = 1; i < track.polyline.size(); ++i)
+    track.distance_m[i] =
+        track.distance_m[i - 1] + (track.polyline[i] - track.polyline[i - 1]).norm();
+  const auto dist = [&](std::size_t k) { return track.distance_m[break_index[k]]; };
+  for (std::size_t k = 0; k < intervals.size(); ++k) {
+    const Interval& iv = intervals[k];
+    if (k > 0 && track.blocks.back().type == iv.type && track.blocks.back().part == iv.part &&
+        track.blocks.back().main_block_id == iv.main_block_id)
+      track.blocks.back().end_m = dist(k + 1);
+    else
+      track.blocks.push_back({iv.type, iv.part, dist(k), dist(k + 1), iv.main_block_id});
+    if (iv.in_turnout) {
+      if (k > 0 && intervals[k - 1].in_turnout)
+        track.turnout_ranges_m.back().second = dist(k + 1);
+      else
+        track.turnout_ranges_m.emplace_back(dist(k), dist(k + 1));
+    }
+  }
+}
+
+// The main track's frame at chainage s: centreline point and left unit normal in plan.
+struct MainFrame {
+  Eigen::Vector3d position;
+  Eigen::Vector3d left;
+};
+
+MainFrame mainFrame(const Track& track, double s) {
+  const TrackPoint tp = track.atChainage(s);
+  return {tp.position, Eigen::Vector3d(-std::sin(tp.heading_rad), std::cos(tp.heading_rad), 0.0)};
+}
+
+// The main blocks as intervals; one interval over the whole track if the route has none.
+std::vector<Interval> mainIntervals(const Route& route) {
+  std::vector<Interval> out;
+  for (const Block& b : route.blocks)
+    if (b.chainage_end_m > b.chainage_begin_m)
+      out.push_back({b.chainage_begin_m, b.chainage_end_m, std::string(blockTypeName(b.type)), "",
+                     b.id, false, -1});
+  if (out.empty())
+    out.push_back({0.0, route.track.length(), "straight", "", -1, false, -1});
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Auxiliary-track geometry, as a lateral offset y(x) from the (straight) main track at main
+// chainage x: parallel lines, straight lines at ±α and circular arcs tangent to a parallel.
+
+struct Piece {
+  enum class Shape { kLine, kArc };
+  Shape shape = Shape::kLine;
+  double x0 = 0.0, x1 = 0.0;
+  // Line: offsets at both ends (taken from the neighbouring pieces, so joints are exact).
+  double y0 = 0.0, y1 = 0.0;
+  // Arc of radius r tangent at chainage xt to the parallel at offset yt, bending towards
+  // `bend` (±1): y = yt + bend·(r − sqrt(r² − (x − xt)²)).
+  double xt = 0.0, yt = 0.0, bend = 0.0, r = 0.0;
+  std::string type, part;
+  bool in_turnout = false;
+
+  double offset(double x) const {
+    if (shape == Shape::kLine)
+      return x1 > x0 ? y0 + (y1 - y0) * (x - x0) / (x1 - x0) : y0;
+    const double u = x - xt;
+    // r − sqrt(r² − u²) without cancellation.
+    return yt + bend * u * u / (r + std::sqrt(std::max(0.0, r * r - u * u)));
+  }
+};
+
+Piece line(double x0, double x1, double y0, double y1, std::string type, std::string part,
+           bool in_turnout) {
+  Piece p;
+  p.x0 = x0;
+  p.x1 = x1;
+  p.y0 = y0;
+  p.y1 = y1;
+  p.type = std::move(type);
+  p.part = std::move(part);
+  p.in_turnout = in_turnout;
+  return p;
+}
+
+Piece arc(double x0, double x1, double xt, double yt, double bend, double r, std::string type,
+          std::string part, bool in_turnout) {
+  Piece p;
+  p.shape = Piece::Shape::kArc;
+  p.x0 = x0;
+  p.x1 = x1;
+  p.xt = xt;
+  p.yt = yt;
+  p.bend = bend;
+  p.r = r;
+  p.type = std::move(type);
+  p.part = std::move(part);
+  p.in_turnout = in_turnout;
+  return p;
+}
+
+// Turnout geometry in the plan of a straight main track (rail-imu-reference.md §1.5).
+struct TurnoutGeometry {
+  double r = 0.0;
+  double sin_a = 0.0, cos_a = 0.0, one_minus_cos_a = 0.0;
+  double diagonal_m = 0.0;  // L_s
+  double dead_end_m = 0.0;
+
+  // Main-chainage length of a turnout connection and of a dead-end part.
+  double turnoutLength() const { return 2.0 * r * sin_a + diagonal_m * cos_a; }
+  double deadEndLength() const { return dead_end_m * cos_a + r * sin_a; }
+  double endLength(bool turnout) const { return turnout ? turnoutLength() : deadEndLength(); }
+};
+
+// Pieces of an auxiliary track: neighbouring track at offset yn, parallel part at yp = yn + σd
+// (σ = side: +1 left, −1 right) from chainage x0.
+std::vector<Piece> auxPieces(const TurnoutGeometry& g, double x0, double yn, double yp, double side,
+                             bool turnout_begin, double parallel_m, bool turnout_end) {
+  std::vector<Piece> out;
+  const double rs = g.r * g.sin_a;
+  double x = x0;
+  if (turnout_begin) {
+    // Diverging arc from the neighbour, the diagonal, the reverse arc into the parallel.
+    const double xa = x + rs, xb = xa + g.diagonal_m * g.cos_a, xc = xb + rs;
+    const Piece a1 = arc(x, xa, x, yn, side, g.r, "turnout", "entering", true);
+    const Piece a2 = arc(xb, xc, xc, yp, -side, g.r, "curve", "entering", true);
+    out.push_back(a1);
+    out.push_back(line(xa, xb, a1.offset(xa), a2.offset(xb), "turnout", "entering", true));
+    out.push_back(a2);
+    x = xc;
+  } else {
+    // Dead end outside the parallel, pointing in towards it, then the arc that turns it parallel.
+    const double xa = x + g.dead_end_m * g.cos_a, xc = xa + rs;
+    const Piece a = arc(xa, xc, xc, yp, side, g.r, "curve", "entering", false);
+    const double ya = a.offset(xa);
+    out.push_back(
+        line(x, xa, ya + side * g.dead_end_m * g.sin_a, ya, "dead_end", "entering", false));
+    out.push_back(a);
+    x = xc;
+  }
+  out.push_back(line(x, x + parallel_m, yp, yp, "parallel", "parallel", false));
+  x += parallel_m;
+  if (turnout_end) {
+    const double xa = x + rs, xb = xa + g.diagonal_m * g.cos_a, xc = xb + rs;
+    const Piece a2 = arc(x, xa, x, yp, -side, g.r, "curve", "outgoing", true);
+    const Piece a1 = arc(xb, xc, xc, yn, side, g.r, "turnout", "outgoing", true);
+    out.push_back(a2);
+    out.push_back(line(xa, xb, a2.offset(xa), a1.offset(xb), "turnout", "outgoing", true));
+    out.push_back(a1);
+  } else {
+    const double xa = x + rs, xb = xa + g.dead_end_m * g.cos_a;
+    const Piece a = arc(x, xa, x, yp, side, g.r, "curve", "outgoing", false);
+    const double ya = a.offset(xa);
+    out.push_back(a);
+    out.push_back(
+        line(xa, xb, ya, ya + side * g.dead_end_m * g.sin_a, "dead_end", "outgoing", false));
+  }
+  // Drop zero-length pieces (a zero diagonal or dead end).
+  std::erase_if(out, [](const Piece& p) { return !(p.x1 - p.x0 > 1e-12); });
+  return out;
+}
+
+// Intervals of an auxiliary track: each piece cut at the main block boundaries.
+std::vector<Interval> auxIntervals(const std::vector<Piece>& pieces,
+                                   const std::vector<Interval>& main_blocks) {
+  std::vector<Interval> out;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const Piece& p = pieces[k];
+    double x = p.x0;
+    for (const Interval& b : main_blocks) {
+      if (b.x1 <= x || b.x0 >= p.x1)
+        continue;
+      const double end = std::min(p.x1, b.x1);
+      if (end - x > 1e-9)
+        out.push_back({x, end, p.type, p.part, b.main_block_id, p.in_turnout, static_cast<int>(k)});
+      x = end;
+    }
+    if (p.x1 - x > 1e-9)  // beyond the last block (cannot happen when blocks tile the route)
+      out.push_back({x, p.x1, p.type, p.part, -1, p.in_turnout, static_cast<int>(k)});
+  }
+  return out;
+}
+
+// A stretch of main chainage where auxiliary tracks may be laid: a straight element alongside
+// straight or station blocks only.
+struct Stretch {
+  double a, b;
+};
+
+std::vector<Stretch> eligibleStretches(const Route& route) {
+  const HorizontalAlignment& h = route.track.horizontal();
+  std::vector<Stretch> straights;
+  for (std::size_t i = 0; i < h.elements().size(); ++i) {
+    const HorizontalElement& e = h.elements()[i];
+    if (e.type != HorizontalElement::Type::kStraight || e.curvature_start_1_m != 0.0 ||
+        e.curvature_end_1_m != 0.0)
+      continue;
+    const double a = h.elementStart(i), b = h.elementStart(i + 1);
+    if (!straights.empty() && straights.back().b == a)
+      straights.back().b = b;
+    else
+      straights.push_back({a, b});
+  }
+  if (route.blocks.empty())
+    return straights;
+  std::vector<Stretch> out;
+  for (const Stretch& st : straights) {
+    double run_begin = st.a;
+    bool open = true;
+    for (const Block& blk : route.blocks) {
+      if (blk.chainage_end_m <= st.a || blk.chainage_begin_m >= st.b)
+        continue;
+      const bool allowed = blk.type == BlockType::kStraight || blk.type == BlockType::kStation;
+      if (allowed && !open) {
+        run_begin = std::max(st.a, blk.chainage_begin_m);
+        open = true;
+      } else if (!allowed && open) {
+        const double end = std::max(st.a, blk.chainage_begin_m);
+        if (end > run_begin)
+          out.push_back({run_begin, end});
+        open = false;
+      }
+    }
+    if (open && st.b > run_begin)
+      out.push_back({run_begin, st.b});
+  }
+  return out;
+}
+
+void validate(const LayoutParams& p) {
+  const auto require = [](bool ok, const char* field, double value, const char* what) {
+    if (!ok)
+      throw ConfigError(fmt::format("layout.{}: {} {}", field, value, what));
+  };
+  const double d = p.track_centre_distance_m;
+  require(std::isfinite(d) && d > 0.0, "track_centre_distance_m", d, "must be positive");
+  require(std::isfinite(p.polyline_spacing_m) && p.polyline_spacing_m >= 0.01, "polyline_spacing_m",
+          p.polyline_spacing_m, "is below the minimum 0.01 m");
+  require(p.aux_probability >= 0.0 && p.aux_probability <= 1.0, "aux_probability",
+          p.aux_probability, "is outside [0, 1]");
+  require(p.turnout_probability >= 0.0 && p.turnout_probability <= 1.0, "turnout_probability",
+          p.turnout_probability, "is outside [0, 1]");
+  require(std::isfinite(p.aux_parallel_min_m) && p.aux_parallel_min_m > 0.0, "aux_parallel_min_m",
+          p.aux_parallel_min_m, "must be positive");
+  require(std::isfinite(p.aux_parallel_max_m) && p.aux_parallel_max_m >= p.aux_parallel_min_m,
+          "aux_parallel_max_m", p.aux_parallel_max_m, "is below layout.aux_parallel_min_m");
+  require(std::isfinite(p.dead_end_length_m) && p.dead_end_length_m >= 0.0, "dead_end_length_m",
+          p.dead_end_length_m, "must not be negative");
+}
+
+TurnoutGeometry turnoutGeometry(const LayoutParams& p, bool turnouts_used) {
+  const Turnout t = turnoutByName(p.turnout);
+  TurnoutGeometry g;
+  g.r = t.radius_m;
+  // tan α = 1/n; 1 − cos α = 2 sin²(α/2) avoids cancellation.
+  const double alpha = std::atan(1.0 / t.ratio);
+  g.sin_a = std::sin(alpha);
+  g.cos_a = std::cos(alpha);
+  g.one_minus_cos_a = 2.0 * std::sin(0.5 * alpha) * std::sin(0.5 * alpha);
+  g.dead_end_m = p.dead_end_length_m;
+  const double d = p.track_centre_distance_m;
+  const double needed = 2.0 * g.r * g.one_minus_cos_a;
+  g.diagonal_m = (d - needed) / g.sin_a;
+  if (turnouts_used && g.diagonal_m < 0.0)
+    throw ConfigError(fmt::format(
+        "layout.track_centre_distance_m ({:g} m) is too small for turnout {} (needs {:.3f} m)", d,
+        t.name, std::ceil(needed * 1000.0) / 1000.0));
+  g.diagonal_m = std::max(0.0, g.diagonal_m);
+  return g;
+}
+
+}  // namespace
+
+Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t seed) {
+  validate(params);
+  const bool aux_possible = params.aux_probability > 0.0;
+  const TurnoutGeometry geo =
+      turnoutGeometry(params, aux_possible && params.turnout_probability > 0.0);
+  const double d = params.track_centre_distance_m;
+  const double spacing = params.polyline_spacing_m;
+  const Track& track = route.track;
+
+  Layout layout;
+  const std::vector<Interval> blocks = mainIntervals(route);
+
+  LayoutTrack main;
+  main.id = 0;
+  main.kind = "main";
+  main.main_chainage_end_m = track.length();
+  sampleTrack(
+      blocks, [&](const Interval&, double s) { return mainFrame(track, s).position; }, spacing,
+      main);
+  layout.tracks.push_back(std::move(main));
+
+  int double_id = -1;
+  if (params.double_track) {
+    LayoutTrack dbl;
+    dbl.id = double_id = 1;
+    dbl.kind = "double";
+    dbl.offset_m = -d;
+    dbl.main_chainage_end_m = track.length();
+    sampleTrack(
+        blocks,
+        [&](const Interval&, double s) {
+          const MainFrame f = mainFrame(track, s);
+          return Eigen::Vector3d(f.position - d * f.left);
+        },
+        spacing, dbl);
+    layout.tracks.push_back(std::move(dbl));
+  }
+
+  if (!aux_possible)
+    return layout;
+
+  SegmentGrid grid(gridCell(d));
+  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
+    grid.add(layout.tracks[i], static_cast<int>(i));
+
+  const double p_turnout = params.turnout_probability;
+  const double min_end = p_turnout <= 0.0   ? geo.deadEndLength()
+                         : p_turnout >= 1.0 ? geo.turnoutLength()
+                                            : std::min(geo.turnoutLength(), geo.deadEndLength());
+  const double gap = std::max(kSameSideGap_m, d);
+  RandomCursor rnd(RandomStream(seed, "layout.auxiliary"));
+  std::array<double, 2> free_from{-std::numeric_limits<double>::infinity(),
+                                  -std::numeric_limits<double>::infinity()};  // left, right
+
+  for (const Stretch& st : eligibleStretches(route)) {
+    if (st.b - st.a < 2.0 * min_end + params.aux_parallel_min_m)
+      continue;
+    for (;;) {
+      if (rnd.uniform() > params.aux_probability)
+        break;
+      const double side_draw = rnd.uniform();
+      const bool turnout_begin = rnd.uniform() <= p_turnout;
+      const bool turnout_end = rnd.uniform() <= p_turnout;
+      const double length_draw = rnd.uniform();
+      const double position_draw = rnd.uniform();
+      int side = params.side == AuxSide::kLeft    ? 0
+                 : params.side == AuxSide::kRight ? 1
+                                                  : (side_draw <= 0.5 ? 0 : 1);
+      const double ends = geo.endLength(turnout_begin) + geo.endLength(turnout_end);
+      const auto available = [&](int sd) { return st.b - std::max(st.a, free_from[sd]); };
+      if (available(side) < ends + params.aux_parallel_min_m) {
+        if (params.side == AuxSide::kEither &&
+            available(1 - side) >= ends + params.aux_parallel_min_m)
+          side = 1 - side;
+        else
+          break;
+      }
+      const double lo = std::max(st.a, free_from[side]);
+      const double room = st.b - lo - ends;
+      const double parallel =
+          std::min(room, params.aux_parallel_min_m +
+                             (params.aux_parallel_max_m - params.aux_parallel_min_m) * length_draw);
+      const double x0 = lo + (room - parallel) * position_draw;
+      free_from[side] = x0 + ends + parallel + gap;
+
+      // Left: beside the main track. Right: beyond the double track if there is one.
+      const double sigma = side == 0 ? 1.0 : -1.0;
+      const bool beyond_double = side == 1 && double_id >= 0;
+      const double yn = beyond_double ? -d : 0.0;
+      const double yp = yn + sigma * d;
+      const std::vector<Piece> pieces =
+          auxPieces(geo, x0, yn, yp, sigma, turnout_begin, parallel, turnout_end);
+
+      LayoutTrack aux;
+      aux.id = static_cast<int>(layout.tracks.size());
+      aux.kind = "auxiliary";
+      aux.joins_track = turnout_begin || turnout_end ? (beyond_double ? double_id : 0) : -1;
+      aux.offset_m = yp;
+      aux.main_chainage_begin_m = pieces.front().x0;
+      aux.main_chainage_end_m = pieces.back().x1;
+      sampleTrack(
+          auxIntervals(pieces, blocks),
+          [&](const Interval& iv, double x) {
+            const MainFrame f = mainFrame(track, x);
+            return Eigen::Vector3d(f.position +
+                                   pieces[static_cast<std::size_t>(iv.piece)].offset(x) * f.left);
+          },
+          spacing, aux);
+
+      // Sound by construction beside a straight; this catches the route itself running back
+      // close to the stretch.
+      std::vector<ClearanceIssue> issues;
+      collectIssues(aux, aux.id, layout.tracks, grid, d, issues);
+      if (!issues.empty())
+        continue;
+      grid.add(aux, aux.id);
+      layout.tracks.push_back(std::move(aux));
+    }
+  }
+  return layout;
+}
+
+std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_distance_m) {
+  std::vector<ClearanceIssue> out;
+  if (!(min_distance_m > kClearanceTolerance_m))
+    return out;
+  SegmentGrid grid(gridCell(min_distance_m));
+  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
+    grid.add(layout.tracks[i], static_cast<int>(i));
+  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
+    if (layout.tracks[i].kind == "auxiliary")
+      collectIssues(layout.tracks[i], static_cast<int>(i), layout.tracks, grid, min_distance_m,
+                    out);
+  return out;
+}
+
+}  // namespace trainsim::track
