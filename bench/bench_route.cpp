@@ -70,15 +70,15 @@ int main(int argc, char** argv) {
              route.stops.size(), violations);
   fmt::print("run: {:.0f} s, {} samples at 100 Hz\n\n", motion.duration(), samples);
   fmt::print("| stage | time | per unit |\n|---|---|---|\n");
-  fmt::print("| route generation | {:.3f} s | {:.2f} ms/km |\n", seconds(t0, t1),
+  fmt::print("| route generation | {:.2f} ms | {:.3f} ms/km |\n", seconds(t0, t1) * 1e3,
              seconds(t0, t1) * 1e3 / length_km);
-  fmt::print("| design-rule check | {:.3f} s | {:.2f} ms/km |\n", seconds(t1, t2),
+  fmt::print("| design-rule check | {:.2f} ms | {:.3f} ms/km |\n", seconds(t1, t2) * 1e3,
              seconds(t1, t2) * 1e3 / length_km);
-  fmt::print("| motion plan | {:.3f} s | {} segments |\n", seconds(t2, t3),
+  fmt::print("| motion plan | {:.2f} ms | {} segments |\n", seconds(t2, t3) * 1e3,
              motion.segments().size());
-  fmt::print("| trajectory sampling | {:.3f} s | {:.0f} ns/sample = {:.2f} x baseline |\n",
-             seconds(t3, t4), traj_ns, traj_ns / base_ns);
-  fmt::print("| baseline: centreline only | {:.3f} s | {:.0f} ns/point |\n", seconds(t4, t5),
+  fmt::print("| trajectory sampling | {:.1f} ms | {:.0f} ns/sample = {:.2f} x baseline |\n",
+             seconds(t3, t4) * 1e3, traj_ns, traj_ns / base_ns);
+  fmt::print("| baseline: centreline only | {:.1f} ms | {:.0f} ns/point |\n", seconds(t4, t5) * 1e3,
              base_ns);
   fmt::print("\npeak RSS {:.1f} MiB (at start {:.1f} MiB){}\n", peakRssMiB(), rss0,
              sink == 0.123 ? " " : "");
