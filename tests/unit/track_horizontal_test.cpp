@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "../support/fresnel_series.hpp"
+#include "../support/simpson_chain.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/track/horizontal.hpp"
 
@@ -114,21 +115,8 @@ TEST(HorizontalAlignment, ThousandKilometresKeepSubMillimetrePrecision) {
 
   // Independent re-integration: Simpson's rule on the closed-form heading with a 0.25 m step,
   // in long double, one element at a time (so that the heading's kinks fall on grid points).
-  long double x = start.x(), y = start.y(), th = 0.3L;
-  for (const E& e : chain) {
-    const int n = static_cast<int>(std::lround(e.length_m / 0.25));
-    const long double h = static_cast<long double>(e.length_m) / n;
-    long double sx = 0, sy = 0;
-    for (int i = 0; i <= n; ++i) {
-      const long double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-      const long double t = th + e.headingChange(static_cast<double>(i * h));
-      sx += w * std::cos(t);
-      sy += w * std::sin(t);
-    }
-    x += sx * h / 3;
-    y += sy * h / 3;
-    th += e.headingChange(e.length_m);
-  }
+  const testing::ChainEnd ref = testing::simpsonChainEnd(chain, start.x(), start.y(), 0.3L, 0.25);
+  const long double x = ref.x, y = ref.y, th = ref.heading;
   const HorizontalState end = a.at(a.length());
   EXPECT_LT(std::hypot(static_cast<double>(x) - end.position_m.x(),
                        static_cast<double>(y) - end.position_m.y()),

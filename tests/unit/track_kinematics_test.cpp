@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "trainsim/core/error.hpp"
 #include "trainsim/track/route_design.hpp"
 #include "trainsim/track/vehicle.hpp"
 
@@ -262,6 +263,18 @@ TEST(Motion, DynamicsLimitAccelerationOnClimbs) {
     // (the plan uses each section's worst grade and speed, so it is conservative).
     ASSERT_LE(s.a_m_s2, dyn.availableAccel(s.v_m_s, sin_grade) + 1e-9) << "t " << time;
   }
+}
+
+TEST(Motion, TractionTooWeakForTheGradeIsBadInput) {
+  RouteGeneratorParams p;
+  p.length_m = 8000;
+  p.grade_max = 0.0125;
+  const DesignedRoute d = generateRoute(p, RouteOptions{}, 5);
+  TrainDynamics dyn;
+  dyn.enabled = true;
+  dyn.max_traction_n = 20e3;  // a 260 t train on 12.5 permille needs about 32 kN
+  EXPECT_THROW(planMotion(d.route, d.stops, {}, dyn, 17.5, d.route.track.distanceLength() - 1),
+               ConfigError);
 }
 
 }  // namespace

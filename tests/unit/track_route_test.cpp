@@ -7,6 +7,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "../support/simpson_chain.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/track/route_design.hpp"
 
@@ -133,23 +134,8 @@ TEST(RouteGenerator, ThousandKilometresKeepSubMillimetrePrecision) {
   p.length_m = 1.0e6;
   const DesignedRoute d = generateRoute(p, RouteOptions{}, 99);
   const HorizontalAlignment& h = d.route.track.horizontal();
-  long double x = 0, y = 0;
-  long double heading = 0;
-  for (std::size_t i = 0; i < h.elements().size(); ++i) {
-    const HorizontalElement& e = h.elements()[i];
-    const int n = 2 * std::max(1, static_cast<int>(e.length_m / 2.0));
-    const long double step = e.length_m / n;
-    long double sx = 0, sy = 0;
-    for (int k = 0; k <= n; ++k) {
-      const long double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
-      const long double t = heading + e.headingChange(static_cast<double>(k * step));
-      sx += w * std::cos(t);
-      sy += w * std::sin(t);
-    }
-    x += sx * step / 3;
-    y += sy * step / 3;
-    heading += e.headingChange(e.length_m);
-  }
+  const testing::ChainEnd ref = testing::simpsonChainEnd(h.elements(), 0, 0, 0, 1.0);
+  const long double x = ref.x, y = ref.y;
   const Eigen::Vector3d end = d.route.track.atChainage(d.route.track.length()).position;
   EXPECT_LT(std::hypot(end.x() - static_cast<double>(x), end.y() - static_cast<double>(y)), 1e-3);
   // 3D length: Simpson of 1/cos θ(s) over every vertical element.

@@ -14,13 +14,13 @@
 namespace trainsim::sim {
 namespace {
 
-double kmh(double v) {
+double fromKmh(double v) {
   return v / 3.6;
 }
 
 track::DesignRules designRules(const scenario::Scenario& sc) {
   track::DesignRules r;
-  r.design_speed_m_s = kmh(sc.get<double>("design.design_speed_km_h"));
+  r.design_speed_m_s = fromKmh(sc.get<double>("design.design_speed_km_h"));
   r.max_cant_m = sc.get<double>("design.max_cant_mm") * 1e-3;
   r.max_cant_deficiency_m = sc.get<double>("design.max_cant_deficiency_mm") * 1e-3;
   r.max_cant_rate_m_s = sc.get<double>("design.max_cant_rate_mm_s") * 1e-3;
@@ -31,9 +31,9 @@ track::DesignRules designRules(const scenario::Scenario& sc) {
   r.max_vertical_accel_m_s2 = sc.get<double>("design.max_vertical_accel_m_s2");
   r.station_max_grade = sc.get<double>("design.station_max_grade_permille") * 1e-3;
   r.station_max_cant_m = sc.get<double>("design.station_max_cant_mm") * 1e-3;
-  r.station_speed_m_s = kmh(sc.get<double>("design.station_speed_km_h"));
-  r.tunnel_speed_m_s = kmh(sc.get<double>("design.tunnel_speed_km_h"));
-  r.bridge_speed_m_s = kmh(sc.get<double>("design.bridge_speed_km_h"));
+  r.station_speed_m_s = fromKmh(sc.get<double>("design.station_speed_km_h"));
+  r.tunnel_speed_m_s = fromKmh(sc.get<double>("design.tunnel_speed_km_h"));
+  r.bridge_speed_m_s = fromKmh(sc.get<double>("design.bridge_speed_km_h"));
   return r;
 }
 

@@ -197,9 +197,9 @@ MotionProfile planMotion(const Route& route, const std::vector<std::pair<double,
           (worst(mid) >= 0.05 ? lo : hi) = mid;
         }
         if (lo < 0.5)
-          throw RuntimeError(fmt::format(
-              "the train cannot start on the climb at chainage {:.0f} m: traction is too weak "
-              "for the grade",
+          throw ConfigError(fmt::format(
+              "train.dynamics: the train cannot start on the climb at chainage {:.0f} m; its "
+              "traction is too weak for the grade",
               vp.chainageAt(sec.u0)));
         sec.limit = lo;
       }

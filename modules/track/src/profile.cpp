@@ -121,8 +121,9 @@ VerticalProfile VerticalProfile::fromPvis(const std::vector<Pvi>& pvis,
     if (grade_end - s > 1e-9)
       elements.push_back({grade_end - s, std::sin(pitch[leg]), 0.0});
     s = std::max(s, grade_end);
-    const double len = after * (std::cos(pitch[leg]) + std::cos(pitch[leg + 1]));
-    if (leg + 2 < n && len > 1e-9) {
+    const double len =
+        leg + 2 < n ? after * (std::cos(pitch[leg]) + std::cos(pitch[leg + 1])) : 0.0;
+    if (len > 1e-9) {
       const double s0 = std::sin(pitch[leg]);
       const double s1 = std::sin(pitch[leg + 1]);
       elements.push_back({len, s0, (s1 - s0) / len});
