@@ -1,8 +1,38 @@
 # kill -9 part-way through a run, then --resume: the dataset equals an uninterrupted run's,
-# byte for byte. Uses the run stage on a synthetic trajectory (sim::runDataset, the code path of
-# `trainsim generate`) with test sensors that write per-frame files, append-only CSVs and
-# carry random-walk state across checkpoints.
+# byte for byte. First the real `trainsim generate` on a 100 km route (plan files, times.txt,
+# poses.txt); then the run stage on a synthetic trajectory with test sensors that also write
+# per-frame files and append-only CSVs and carry random-walk state across checkpoints.
 source "$(dirname "$0")/lib.sh" "$@"
+
+cat >"$WORK/long.json" <<'JSON'
+{"route": {"generator": {"length_m": 100000}}, "trajectory": {"sample_period_ns": 100000000},
+ "dataset": {"frame_period_ns": 100000000}}
+JSON
+expect_exit 0 "generate: uninterrupted run" -- "$TRAINSIM" generate "$WORK/long.json" \
+  --out "$WORK/gref" --progress none
+for attempt in 1 2 3; do
+  rm -rf "$WORK/gcut"
+  "$TRAINSIM" generate "$WORK/long.json" --out "$WORK/gcut" --progress none >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 1 400); do
+    n=$({ wc -l <"$WORK/gcut/sequences/00/poses.txt"; } 2>/dev/null || echo 0)
+    [ "$n" -ge 500 ] && break
+    sleep 0.02
+  done
+  kill -9 "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  [ -e "$WORK/gcut/.trainsim/checkpoint.json" ] && [ ! -e "$WORK/gcut/manifest.json" ] && break
+done
+[ -e "$WORK/gcut/.trainsim/checkpoint.json" ] && pass "generate: killed run left a checkpoint" ||
+  fail "generate: no interrupted run to resume"
+expect_exit 0 "generate: resume" -- "$TRAINSIM" generate "$WORK/long.json" --out "$WORK/gcut" \
+  --resume --progress none
+if diff -r "$WORK/gref" "$WORK/gcut" >"$WORK/diff"; then
+  pass "generate: resumed dataset byte-identical"
+else
+  fail "generate: resumed dataset differs"; head -20 "$WORK/diff" >&2
+fi
+rm -rf "$WORK/gref" "$WORK/gcut"
 
 expect_exit 0 "uninterrupted run" -- "$SYNTHETIC_RUN" "$WORK/ref" --samples 400
 frames_dir="$WORK/cut/sequences/00/noise_frames"
