@@ -87,6 +87,10 @@ TEST(Kinematics, RollRateInLinearCantRamp) {
         return D / L * kV / std::sqrt(1.5 * 1.5 - d * d);
       };
       EXPECT_NEAR(b.euler_rate.x(), 0.5 * (rate(u) + rate(u - 17.5)), 1e-12);
+      // Level track without lift: the body-axis roll rate is the Euler roll rate.
+      if (rot == CantRotation::kCentre) {
+        EXPECT_NEAR(b.w_body.x(), 0.5 * (rate(u) + rate(u - 17.5)), 1e-12);
+      }
     }
   }
 }
@@ -127,10 +131,23 @@ TEST(Kinematics, FiniteDifferencesMatchClosedFormsAtSecondOrder) {
   auto at = [&](double time) { return bodyState(t, geo, g.motion.at(time)); };
   int checked = 0;
   for (double time = 5.0; time < g.motion.duration() - 5.0; time += 7.3) {
-    // Skip instants next to a change of jerk, where the motion is only C².
+    // Skip instants next to a change of jerk (the motion is only C² there) and where either
+    // pivot is within reach of a joint of the horizontal, vertical or cant profile (where
+    // curvature rate, vertical curvature or roll acceleration step).
     bool near_joint = false;
     for (const MotionSegment& s : g.motion.segments())
       near_joint |= std::abs(s.t0_s - time) < 0.05;
+    const MotionState m = g.motion.at(time);
+    for (double u : {m.u_m, m.u_m - geo.bogie_spacing_m}) {
+      const double s = t.vertical().chainageAt(u);
+      const double reach = 0.05 * m.v_m_s + 1.0;
+      for (std::size_t i = 0; i <= t.horizontal().elements().size(); ++i)
+        near_joint |= std::abs(t.horizontal().elementStart(i) - s) < reach;
+      for (std::size_t i = 0; i <= t.vertical().elements().size(); ++i)
+        near_joint |= std::abs(t.vertical().elementStart(i) - s) < reach;
+      for (std::size_t i = 0; i <= t.cant().elements().size(); ++i)
+        near_joint |= std::abs(t.cant().elementStart(i) - s) < reach;
+    }
     if (near_joint)
       continue;
     const BodyState b = at(time);
@@ -166,7 +183,7 @@ TEST(Kinematics, FiniteDifferencesMatchClosedFormsAtSecondOrder) {
                       h, 1e-11);
     ++checked;
   }
-  EXPECT_GT(checked, 20);
+  EXPECT_GT(checked, 15);
 }
 
 // The bound the sampled velocity must meet at sample period T: the central difference of the
@@ -215,7 +232,8 @@ TEST(Motion, SpeedAccelerationAndJerkStayWithinTheirLimits) {
       const MotionState m = g.motion.at(time);
       ASSERT_LE(m.v_m_s, g.motion.limit().at(m.u_m) + 1e-9) << "seed " << seed << " t " << time;
       ASSERT_GE(m.v_m_s, 0.0);
-      ASSERT_LE(std::abs(m.a_m_s2), std::max(lim.accel_m_s2, lim.brake_m_s2) + 1e-12);
+      ASSERT_LE(m.a_m_s2, lim.accel_m_s2 + 1e-12);
+      ASSERT_GE(m.a_m_s2, -lim.brake_m_s2 - 1e-12);
       ASSERT_LE(std::abs(m.jerk_m_s3), lim.jerk_m_s3 + 1e-12);
       if (m.v_m_s == 0.0 && m.u_m > 20 && m.u_m < len - 2) {
         if (stopped_since < 0) {

@@ -88,12 +88,12 @@ RouteOptions optionsFor(double speed_kmh) {
 }
 
 TEST(RouteGenerator, ThousandSeedsObeyEveryDesignRule) {
-  const double speeds[] = {80, 120, 160, 200, 250};
+  const double speeds[] = {30, 80, 120, 160, 200, 250, 50};
   int stations = 0, tunnels = 0, bridges = 0, curves = 0;
   for (std::uint64_t seed = 0; seed < 1000; ++seed) {
     RouteGeneratorParams p;
     p.length_m = 4000 + 13.0 * static_cast<double>(seed % 200);
-    RouteOptions o = optionsFor(speeds[seed % 5]);
+    RouteOptions o = optionsFor(speeds[seed % 7]);
     if (seed % 7 == 3)
       o.transition_shape = TransitionShape::kBloss;
     p.radius_max_m = std::max(4000.0, 1.5 * o.rules.minRadius(o.rules.design_speed_m_s));
@@ -155,6 +155,22 @@ TEST(RouteGenerator, ThousandKilometresKeepSubMillimetrePrecision) {
     u += sum * step / 3;
   }
   EXPECT_LT(std::abs(d.route.track.distanceLength() - static_cast<double>(u)), 1e-3);
+  // Height: Simpson of tan θ(s).
+  long double z = 0;
+  for (std::size_t i = 0; i < v.elements().size(); ++i) {
+    const double a = v.elementStart(i), b = std::min(v.elementStart(i + 1), h.length());
+    if (b <= a)
+      continue;
+    const int n = 2 * std::max(1, static_cast<int>((b - a) / 4.0));
+    const long double step = (b - a) / n;
+    long double sum = 0;
+    for (int k = 0; k <= n; ++k) {
+      const long double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
+      sum += w * std::tan(v.at(a + static_cast<double>(k * step)).pitch_rad);
+    }
+    z += sum * step / 3;
+  }
+  EXPECT_LT(std::abs(end.z() - static_cast<double>(z)), 1e-3);
 }
 
 class WaypointFile : public ::testing::Test {
@@ -269,6 +285,9 @@ TEST_F(WaypointFile, MalformedFilesNameTheLine) {
   expectError("n_m,e_m,d_m\n0,0,0\n", "at least two waypoints");
   expectError("n_m,e_m,d_m\n0,0,0\n0,0,1\n", "repeats the one on line 2");
   expectError("n_m,e_m,d_m,block\n0,0,0,viaduct\n0,10,0,\n", "'viaduct' is not one of");
+  // A given radius that takes the whole next leg leaves no room for the next curve.
+  expectError("n_m,e_m,d_m,radius_m\n0,0,0,\n0,1000,0,2000\n300,1100,0,\n300,2000,0,\n",
+              "does not fit between its neighbours");
   try {
     importWaypoints("/nonexistent/route.csv", anchor_, {}, RouteOptions{});
     ADD_FAILURE();

@@ -41,7 +41,7 @@ void addRouteSections(Schema& s) {
                         "CSV of waypoints (n_m,e_m,d_m or latitude_deg,longitude_deg,height_m; "
                         "optional radius_m, vertical_radius_m, block); relative paths are relative "
                         "to the scenario file"),
-       number("waypoint_radius_max_m", 10000, "m",
+       number("waypoint_radius_max_m", 50000, "m",
               "Largest arc radius chosen at a waypoint that gives none")
            .range(50, 1e6),
        choice("transition_shape", "clothoid", {"clothoid", "bloss"},
@@ -76,7 +76,7 @@ void addRouteSections(Schema& s) {
       {number("design_speed_km_h", 160, "km/h", "Line speed the alignment is designed for")
            .range(20, 400),
        number("max_cant_mm", 160, "mm", "Largest applied cant D").range(0, 200),
-       number("max_cant_deficiency_mm", 130, "mm", "Largest cant deficiency I").range(0, 300),
+       number("max_cant_deficiency_mm", 130, "mm", "Largest cant deficiency I").range(1, 300),
        number("max_cant_rate_mm_s", 50, "mm/s", "Largest rate of change of cant dD/dt")
            .range(1, 200),
        number("max_deficiency_rate_mm_s", 55, "mm/s",

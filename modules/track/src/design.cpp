@@ -9,6 +9,7 @@ namespace trainsim::track {
 namespace {
 
 constexpr double kGravity_m_s2 = 9.80665;
+constexpr double kNoCantBelow_m_s = 40.0 / 3.6;  // rail-imu-reference.md §1.2 (Bane NOR)
 
 double kmh(double v) {
   return v * 3.6;
@@ -39,11 +40,13 @@ double DesignRules::equilibriumCant(double v, double radius_m) const {
 }
 
 double DesignRules::minRadius(double v) const {
-  return kCantBase_m * v * v / (kGravity_m_s2 * (max_cant_m + max_cant_deficiency_m));
+  // Below 40 km/h curves get no cant (appliedCant), so only the deficiency is available.
+  const double cant = v < kNoCantBelow_m_s ? 0.0 : max_cant_m;
+  return kCantBase_m * v * v / (kGravity_m_s2 * (cant + max_cant_deficiency_m));
 }
 
 double DesignRules::appliedCant(double v, double radius_m) const {
-  if (v < 40.0 / 3.6)
+  if (v < kNoCantBelow_m_s)
     return 0.0;
   const double e = equilibriumCant(v, radius_m);
   const double wanted = std::max(e - max_cant_deficiency_m, 2.0 / 3.0 * e);
@@ -103,12 +106,13 @@ class Checker {
     }
     return v;
   }
-  bool inStation(double a, double b) const {
-    for (const Block& blk : route_.blocks) {
-      if (blk.type == BlockType::kStation && blk.chainage_end_m > a && blk.chainage_begin_m < b)
-        return true;
-    }
-    return false;
+  // Cant deficiency with the sign of the curve: equilibrium cant banked into the curve
+  // (negative for left-hand curves, where the right rail is raised) minus the applied cant.
+  double signedDeficiency(double v, double k, double d) const {
+    if (k == 0.0)
+      return -d;
+    const double e = rules_.equilibriumCant(v, 1.0 / k);
+    return (k > 0.0 ? -e : e) - d;
   }
 
   void add(std::string rule, double a, double b, double value, double limit, std::string unit,
@@ -131,6 +135,13 @@ class Checker {
               fmt::format("curvature jumps from {:.6g} to {:.6g} 1/m without a transition", k_prev,
                           e.curvature_start_1_m));
       }
+      if (i > 0 && e.type == HorizontalElement::Type::kTransition && e.curvature_start_1_m == 0.0) {
+        const HorizontalElement& prev = h.elements()[i - 1];
+        if (prev.type == HorizontalElement::Type::kTransition && prev.curvature_end_1_m == 0.0 &&
+            prev.curvature_start_1_m * e.curvature_end_1_m < 0.0)
+          add("reverse_curve_straight", a, a, 0.0, rules_.minElementLength(v), "m",
+              "reverse curves meet without a straight between their transitions");
+      }
       if (e.type != HorizontalElement::Type::kTransition && i > 0 && i + 1 < h.elements().size() &&
           e.length_m < rules_.minElementLength(v) - 1e-6)
         add("element_length", a, b, e.length_m, rules_.minElementLength(v), "m",
@@ -139,11 +150,10 @@ class Checker {
                         rules_.minElementLength(v), rules_.min_element_duration_s, kmh(v)));
       if (e.type == HorizontalElement::Type::kTransition) {
         const double d0 = cant.at(a).cant_m, d1 = cant.at(b).cant_m;
-        auto deficiency = [&](double k, double d) {
-          return k == 0.0 ? 0.0 : rules_.equilibriumCant(v, 1.0 / k) - std::abs(d);
-        };
-        const double di =
-            deficiency(e.curvature_end_1_m, d1) - deficiency(e.curvature_start_1_m, d0);
+        // Signed deficiency, so that a transition from a left to a right curve counts the
+        // whole swing.
+        const double di = signedDeficiency(v, e.curvature_end_1_m, d1) -
+                          signedDeficiency(v, e.curvature_start_1_m, d0);
         const double need = rules_.minTransitionLength(v, d1 - d0, di);
         if (e.length_m < need - 1e-6)
           add("transition_length", a, b, e.length_m, need, "m",
@@ -193,7 +203,8 @@ class Checker {
                         rules_.max_cant_m * 1e3));
       if (d * k > 0.0)
         add("cant_direction", a, b, d * 1e3, 0.0, "mm", "cant raises the inner rail");
-      const double deficiency = rules_.equilibriumCant(v, r) - std::abs(d);
+      // Deficiency against the cant banked into the curve (a cant leaning the wrong way adds).
+      const double deficiency = std::abs(signedDeficiency(v, k, d));
       if (deficiency > rules_.max_cant_deficiency_m + 1e-9)
         add("cant_deficiency", a, b, deficiency * 1e3, rules_.max_cant_deficiency_m * 1e3, "mm",
             fmt::format("cant deficiency {:.0f} mm at {:.0f} km/h exceeds {:.0f} mm",
@@ -213,12 +224,10 @@ class Checker {
       const double s1 = e.sin_pitch_start + e.curvature_1_m * e.length_m;
       const double grade =
           std::tan(std::max(std::abs(std::asin(e.sin_pitch_start)), std::abs(std::asin(s1))));
-      const bool station = inStation(a, b);
-      const double limit = station ? rules_.station_max_grade : rules_.max_grade;
-      if (grade > limit + 1e-9)
-        add(station ? "station_gradient" : "gradient", a, b, grade * 1e3, limit * 1e3, "permille",
-            fmt::format("gradient {:.2f} permille exceeds {:.2f} permille{}", grade * 1e3,
-                        limit * 1e3, station ? " in a station" : ""));
+      if (grade > rules_.max_grade + 1e-9)
+        add("gradient", a, b, grade * 1e3, rules_.max_grade * 1e3, "permille",
+            fmt::format("gradient {:.2f} permille exceeds {:.2f} permille", grade * 1e3,
+                        rules_.max_grade * 1e3));
       if (e.curvature_1_m != 0.0) {
         const double rv = 1.0 / std::abs(e.curvature_1_m);
         if (rv < rules_.minVerticalRadius(v) - 1e-6)
@@ -240,6 +249,21 @@ class Checker {
         if (b > blk.chainage_begin_m && a < blk.chainage_end_m)
           worst = std::max({worst, std::abs(cant.elements()[i].cant_start_m),
                             std::abs(cant.elements()[i].cant_end_m)});
+      }
+      // Steepest grade along the platform: sin θ is monotonic on each vertical element, so
+      // the extremes are at the ends of its overlap with the station.
+      const VerticalProfile& p = route_.track.vertical();
+      for (std::size_t i = 0; i < p.elements().size(); ++i) {
+        const double a = std::max(p.elementStart(i), blk.chainage_begin_m);
+        const double b = std::min(p.elementStart(i + 1), blk.chainage_end_m);
+        if (b <= a)
+          continue;
+        const double grade =
+            std::tan(std::max(std::abs(p.at(a).pitch_rad), std::abs(p.at(b).pitch_rad)));
+        if (grade > rules_.station_max_grade + 1e-9)
+          add("station_gradient", a, b, grade * 1e3, rules_.station_max_grade * 1e3, "permille",
+              fmt::format("gradient {:.2f} permille at a platform exceeds {:.2f} permille",
+                          grade * 1e3, rules_.station_max_grade * 1e3));
       }
       if (worst > rules_.station_max_cant_m + 1e-9)
         add("station_cant", blk.chainage_begin_m, blk.chainage_end_m, worst * 1e3,

@@ -190,11 +190,14 @@ MotionProfile planMotion(const Route& route, const std::vector<std::pair<double,
           a = std::min(a, dynamics.availableAccel(vmax * k / 16.0, climb));
         return a;
       };
-      if (worst(sec.limit) < 0.05) {
+      // Sections where the train could gain less than 0.05 m/s² (or its configured limit, if
+      // lower) run at the speed where it still can.
+      const double floor = std::min(limits.accel_m_s2, 0.05);
+      if (worst(sec.limit) < floor) {
         double lo = 0.0, hi = sec.limit;
         for (int k = 0; k < 60; ++k) {
           const double mid = 0.5 * (lo + hi);
-          (worst(mid) >= 0.05 ? lo : hi) = mid;
+          (worst(mid) >= floor ? lo : hi) = mid;
         }
         if (lo < 0.5)
           throw ConfigError(fmt::format(
@@ -203,7 +206,7 @@ MotionProfile planMotion(const Route& route, const std::vector<std::pair<double,
               vp.chainageAt(sec.u0)));
         sec.limit = lo;
       }
-      accel[i].accel = std::max(0.05, worst(sec.limit));
+      accel[i].accel = worst(sec.limit);
     }
   }
 

@@ -138,6 +138,9 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
   return points;
 }
 
+// Below this a "railway" curve is a fitting failure, not a design to report on.
+constexpr double kSmallestRadius_m = 50.0;
+
 double wrapAngle(double a) {
   return std::remainder(a, 2.0 * std::numbers::pi);
 }
@@ -241,6 +244,11 @@ DesignedRoute importWaypoints(const std::filesystem::path& csv, const GeodeticAn
                                 "its neighbours; reduced to {:.1f} m",
                                 w[i].line, w[i].radius_m, radius)};
     }
+    if (radius < kSmallestRadius_m)
+      throw ConfigError(fmt::format(
+          "{}:{}: the curve at this waypoint does not fit between its neighbours (radius "
+          "{:.1f} m); move the waypoints apart or give smaller radii",
+          csv.string(), w[i].line, radius));
     f.radius = std::copysign(radius, deflection);
     curves[i] = f;
   }
@@ -249,6 +257,11 @@ DesignedRoute importWaypoints(const std::filesystem::path& csv, const GeodeticAn
   std::vector<Pvi> pvis{{0.0, w[0].p.z(), 0.0}};
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double straight = leg[i] - curves[i].tangent - curves[i + 1].tangent;
+    if (straight < -1e-6)
+      throw ConfigError(fmt::format(
+          "{}:{}: the curves at this waypoint and the next (line {}) overlap by {:.1f} m; move "
+          "the waypoints apart or give smaller radii",
+          csv.string(), w[i].line, w[i + 1].line, -straight));
     builder.straight(std::max(0.0, straight), w[i].leg);
     if (i + 2 == n)
       break;

@@ -53,7 +53,7 @@ class VerticalProfile {
   const std::vector<VerticalElement>& elements() const { return elements_; }
   double elementStart(std::size_t i) const { return s_start_[i]; }
 
-  /// State at chainage s (clamped to the profile; beyond it the last grade continues).
+  /// State at chainage s; before 0 and after the end the first and last elements extend.
   VerticalState at(double s) const;
   /// Chainage at 3D distance u (inverse of at(s).distance_m), closed form.
   double chainageAt(double u) const;

@@ -57,7 +57,7 @@ DesignedRoute generateRoute(const RouteGeneratorParams& params, const RouteOptio
 
 /// Waypoint-import settings.
 struct WaypointParams {
-  double radius_max_m = 10000.0;  ///< largest radius chosen where the file gives none
+  double radius_max_m = 50000.0;  ///< largest radius chosen where the file gives none
 };
 
 /// Imports a route from a CSV of waypoints (points of intersection of the straights). Header

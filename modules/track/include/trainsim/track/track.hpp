@@ -12,7 +12,7 @@ inline constexpr double kCantBase_m = 1.5;
 
 /// Axis about which the cant is applied. Rotating about the low (inner) rail lifts the
 /// centreline by |D|/2; rotating about the centreline keeps it at the profile height. (The
-/// inner-rail case also moves the centreline inward by (b/2)(1 − cos φ), at most 2.2 mm at
+/// inner-rail case also moves the centreline inward by (b/2)(1 − cos φ), about 5.4 mm at
 /// 180 mm cant; that shift is neglected.) With linear ramps the inner-rail lift has a kink at
 /// each end of the ramp, so the vertical velocity steps there (by v ΔD'/2); Bloss ramps are
 /// smooth. Rotation about the centre is the default.
