@@ -6,7 +6,8 @@ source "$(dirname "$0")/lib.sh" "$@"
 
 cat >"$WORK/long.json" <<'JSON'
 {"route": {"generator": {"length_m": 100000}}, "trajectory": {"sample_period_ns": 100000000},
- "dataset": {"frame_period_ns": 100000000}}
+ "dataset": {"frame_period_ns": 100000000},
+ "sensors": {"imus": [{"preset": "consumer", "period_ns": 100000000, "mount": {"x_m": 8, "z_m": 3.5}}]}}
 JSON
 expect_exit 0 "generate: uninterrupted run" -- "$TRAINSIM" generate "$WORK/long.json" \
   --out "$WORK/gref" --progress none

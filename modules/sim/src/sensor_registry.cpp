@@ -4,13 +4,16 @@
 
 #include <array>
 
+#include "imu_sensor.hpp"
+
 namespace trainsim::sim {
 
 // The sensor registration table: one line per sensor kind.
 //
 // How to add a sensor kind:
-//   1. Implement trainsim::sim::Sensor (sensor.hpp) in the module that owns the physics, e.g.
-//      modules/sensors/src/imu.cpp, respecting the resume contract stated there.
+//   1. Put the physics in a module below sim (e.g. modules/inertial) and implement
+//      trainsim::sim::Sensor (sensor.hpp) as a thin adapter in modules/sim/src (e.g.
+//      imu_sensor.cpp), respecting the resume contract stated there.
 //   2. Give it a `scenario::Param declareX()` (an object(...) with the sensor's parameters,
 //      units in the names, the period declared with .multipleOf("trajectory.sample_period_ns"))
 //      and a `std::unique_ptr<Sensor> createX(const SensorSetup&)`.
@@ -18,11 +21,13 @@ namespace trainsim::sim {
 // The schema (sensors.<key>[]), validation, `trainsim schema`, docs/SCENARIO.md, the studio's
 // panels and the run loop pick the new kind up from this table; nothing else changes.
 //
-// The list is empty until the first sensor module lands (inertial sensors, issue #4). The
-// frame clock that writes times.txt and poses.txt is not a registered kind: every dataset
-// has exactly one (frame_clock.hpp).
+// The frame clock that writes times.txt and poses.txt is not a registered kind: every
+// dataset has exactly one (frame_clock.hpp).
 namespace {
-constexpr std::array<SensorKind, 0> kSensorKinds = {};
+constexpr std::array<SensorKind, 1> kSensorKinds = {
+    SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
+               &createImu},
+};
 }  // namespace
 
 std::span<const SensorKind> sensorKinds() {

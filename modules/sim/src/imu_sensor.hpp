@@ -1,0 +1,14 @@
+#pragma once
+
+#include <memory>
+
+#include "trainsim/scenario/param.hpp"
+#include "trainsim/sim/sensor.hpp"
+
+namespace trainsim::sim {
+
+/// sensors.imus[]: 9-axis IMU (accelerometer, gyroscope, magnetometer) on a body mount.
+scenario::Param declareImu();
+std::unique_ptr<Sensor> createImu(const SensorSetup& setup);
+
+}  // namespace trainsim::sim
