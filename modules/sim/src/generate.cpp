@@ -78,12 +78,11 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   // change that implements it; the manifest and the CLI report them, so no run pretends.
   std::vector<std::string> not_run = {
       "terrain, objects and track assets",
-      "GNSS, odometer, balises (issue #4)",
       "LiDAR",
       "cameras",
   };
-  std::vector<std::unique_ptr<Sensor>> sensors = createSensors(scenario);
   const std::unique_ptr<Plan> plan = makePlan(scenario);
+  std::vector<std::unique_ptr<Sensor>> sensors = createSensors(scenario, &plan->route.route);
   return runDataset(scenario, plan->trajectory.get(), std::move(sensors), options,
                     std::move(not_run), [&](io::DatasetWriter& writer) {
                       writePlan(*plan, [&](const std::string& name, const std::string& bytes) {

@@ -118,6 +118,7 @@ TrajectorySample TrainTrajectory::sample(std::int64_t k) const {
   TrajectorySample s;
   s.t_ns = k * period_;
   s.chainage_m = b.front_track.chainage_m;
+  s.distance_m = m.u_m;
   s.p_world = b.pointPosition(reference_);
   s.q_world_body = Eigen::Quaterniond(b.r_world_body);
   s.v_world = b.pointVelocity(reference_);
@@ -125,6 +126,7 @@ TrajectorySample TrainTrajectory::sample(std::int64_t k) const {
   s.w_body = b.w_body;
   s.alpha_body = b.alpha_body;
   s.speed_m_s = m.v_m_s;
+  s.accel_m_s2 = m.a_m_s2;
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "imu_sensor.hpp"
+#include "positioning_sensors.hpp"
 
 namespace trainsim::sim {
 
@@ -24,9 +25,13 @@ namespace trainsim::sim {
 // The frame clock that writes times.txt and poses.txt is not a registered kind: every
 // dataset has exactly one (frame_clock.hpp).
 namespace {
-constexpr std::array<SensorKind, 1> kSensorKinds = {
+constexpr std::array<SensorKind, 4> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
                &createImu},
+    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss},
+    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer},
+    SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
+               &declareBaliseReader, &createBaliseReader},
 };
 }  // namespace
 
@@ -34,13 +39,14 @@ std::span<const SensorKind> sensorKinds() {
   return kSensorKinds;
 }
 
-std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario) {
+std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario,
+                                                   const track::Route* route) {
   std::vector<std::unique_ptr<Sensor>> sensors;
   for (const SensorKind& kind : sensorKinds()) {
     const std::string path = fmt::format("sensors.{}", kind.key);
     const scenario::Json& list = scenario.at(path);
     for (std::size_t i = 0; i < list.size(); ++i) {
-      sensors.push_back(kind.create(SensorSetup{scenario, list[i], i}));
+      sensors.push_back(kind.create(SensorSetup{scenario, list[i], i, route}));
     }
   }
   return sensors;

@@ -10,6 +10,7 @@
 #include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/scenario/scenario.hpp"
 #include "trainsim/sim/trajectory.hpp"
+#include "trainsim/track/route.hpp"
 
 namespace trainsim::sim {
 
@@ -48,6 +49,9 @@ struct SensorSetup {
   const scenario::Scenario& scenario;
   const scenario::Json& config;
   std::size_t index;
+  /// The planned main route (tunnels for GNSS, balise placement), or null when a sensor runs
+  /// on a synthetic trajectory.
+  const track::Route* route = nullptr;
 };
 
 }  // namespace trainsim::sim

@@ -24,6 +24,7 @@ struct SensorKind {
 std::span<const SensorKind> sensorKinds();
 
 /// Creates every sensor configured in a resolved scenario, kind by kind in table order.
-std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario);
+std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario,
+                                                   const track::Route* route = nullptr);
 
 }  // namespace trainsim::sim

@@ -13,7 +13,8 @@ namespace trainsim::sim {
 /// geodetic anchor, double precision).
 struct TrajectorySample {
   TimeNs t_ns = 0;
-  double chainage_m = 0.0;
+  double chainage_m = 0.0;  ///< front pivot, horizontal chainage on the main track
+  double distance_m = 0.0;  ///< front pivot, distance along the track in 3D (odometer truth)
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< body reference point
   Eigen::Quaterniond q_world_body = Eigen::Quaterniond::Identity();
   Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
@@ -21,6 +22,7 @@ struct TrajectorySample {
   Eigen::Vector3d w_body = Eigen::Vector3d::Zero();      ///< angular velocity in body axes, rad/s
   Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();  ///< angular acceleration, body axes
   double speed_m_s = 0.0;                                ///< along the track
+  double accel_m_s2 = 0.0;  ///< along the track (dv/dt of the front pivot)
 };
 
 /// Ground truth sampled at the fixed period T_S: sample k is at t = k * T_S. The movement
