@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -117,6 +119,43 @@ TEST(RandomStream, DistinctStreamsAreUncorrelated) {
   }
   const double n = 4.0 * kBlocks;
   EXPECT_NEAR(sxy / n, 0.0, 5.0 / std::sqrt(n));
+}
+
+// The keyed ziggurat: moments, tails against the normal CDF, and purity in (seed, stream, index).
+TEST(RandomStream, ZigguratNormalsMatchTheNormalDistribution) {
+  const RandomStream s(11, "zig");
+  const int n = 2'000'000;
+  double sum = 0, sum2 = 0, sum4 = 0;
+  int beyond2 = 0, beyond3 = 0, beyond4 = 0;
+  for (int i = 0; i < n / 4; ++i) {
+    double x[4];
+    s.normals(static_cast<std::uint64_t>(i), x, 4);
+    for (double v : x) {
+      sum += v;
+      sum2 += v * v;
+      sum4 += v * v * v * v;
+      beyond2 += std::abs(v) > 2;
+      beyond3 += std::abs(v) > 3;
+      beyond4 += std::abs(v) > 4;
+    }
+  }
+  EXPECT_NEAR(sum / n, 0.0, 5.0 / std::sqrt(n));
+  EXPECT_NEAR(sum2 / n, 1.0, 5.0 * std::sqrt(2.0 / n));
+  EXPECT_NEAR(sum4 / n, 3.0, 5.0 * std::sqrt(96.0 / n));
+  // P(|x| > t) = erfc(t/√2); counts within 5σ of the binomial.
+  auto expectTail = [&](int count, double t) {
+    const double p = std::erfc(t / std::sqrt(2.0));
+    EXPECT_NEAR(count, n * p, 5 * std::sqrt(n * p * (1 - p)) + 1) << t;
+  };
+  expectTail(beyond2, 2);
+  expectTail(beyond3, 3);
+  expectTail(beyond4, 4);
+  double a[5], b[5], c[5];
+  s.normals(77, a, 5);
+  RandomStream(11, "zig").normals(77, b, 5);
+  RandomStream(12, "zig").normals(77, c, 5);
+  EXPECT_TRUE(std::equal(a, a + 5, b));
+  EXPECT_FALSE(std::equal(a, a + 5, c));
 }
 
 TEST(RandomCursor, SavedPositionContinuesTheSameSequence) {

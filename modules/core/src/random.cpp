@@ -1,5 +1,7 @@
 #include "trainsim/core/random.hpp"
 
+#include <cmath>
+
 #include "trainsim/core/hash.hpp"
 
 #include <Random123/philox.h>
@@ -31,6 +33,92 @@ std::array<double, 4> RandomStream::normal4(std::uint64_t index, std::uint64_t b
   const r123::double2 p = r123::boxmuller(b[0], b[1]);
   const r123::double2 q = r123::boxmuller(b[2], b[3]);
   return {p.x, p.y, q.x, q.y};
+}
+
+namespace {
+
+// Ziggurat tables for the standard normal, 128 layers (Marsaglia & Tsang, JSS 5(8), 2000).
+struct Ziggurat {
+  std::array<std::uint32_t, 128> k{};
+  std::array<double, 128> w{};
+  std::array<double, 128> f{};
+  Ziggurat() {
+    const double m1 = 2147483648.0, vn = 9.91256303526217e-3;
+    double dn = 3.442619855899, tn = dn;
+    const double q = vn / std::exp(-0.5 * dn * dn);
+    k[0] = static_cast<std::uint32_t>((dn / q) * m1);
+    k[1] = 0;
+    w[0] = q / m1;
+    w[127] = dn / m1;
+    f[0] = 1.0;
+    f[127] = std::exp(-0.5 * dn * dn);
+    for (int i = 126; i >= 1; --i) {
+      dn = std::sqrt(-2.0 * std::log(vn / dn + std::exp(-0.5 * dn * dn)));
+      k[static_cast<std::size_t>(i + 1)] = static_cast<std::uint32_t>((dn / tn) * m1);
+      tn = dn;
+      f[static_cast<std::size_t>(i)] = std::exp(-0.5 * dn * dn);
+      w[static_cast<std::size_t>(i)] = dn / m1;
+    }
+  }
+};
+
+const Ziggurat& ziggurat() {
+  static const Ziggurat z;
+  return z;
+}
+
+// 64-bit words of (index, block 0, 1, ...) in order.
+class Words {
+ public:
+  Words(const RandomStream& s, std::uint64_t index) : s_(s), index_(index) {}
+  std::uint64_t next() {
+    if (lane_ == 4) {
+      buf_ = s_.bits(index_, block_++);
+      lane_ = 0;
+    }
+    return buf_[lane_++];
+  }
+  double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
+
+ private:
+  const RandomStream& s_;
+  std::uint64_t index_;
+  std::uint64_t block_ = 0;
+  std::array<std::uint64_t, 4> buf_{};
+  unsigned lane_ = 4;
+};
+
+double zigguratNormal(Words& words) {
+  const Ziggurat& z = ziggurat();
+  for (;;) {
+    const std::uint64_t word = words.next();
+    const auto hz = static_cast<std::int32_t>(static_cast<std::uint32_t>(word >> 32));
+    const std::size_t iz = word & 127u;
+    const std::uint32_t mag = hz < 0 ? static_cast<std::uint32_t>(-(static_cast<std::int64_t>(hz)))
+                                     : static_cast<std::uint32_t>(hz);
+    const double x = hz * z.w[iz];
+    if (mag < z.k[iz])
+      return x;
+    if (iz == 0) {  // the tail beyond r
+      constexpr double r = 3.442619855899;
+      double xt, yt;
+      do {
+        xt = -std::log(words.uniform()) / r;
+        yt = -std::log(words.uniform());
+      } while (yt + yt < xt * xt);
+      return hz > 0 ? r + xt : -r - xt;
+    }
+    if (z.f[iz] + words.uniform() * (z.f[iz - 1] - z.f[iz]) < std::exp(-0.5 * x * x))
+      return x;
+  }
+}
+
+}  // namespace
+
+void RandomStream::normals(std::uint64_t index, double* out, std::size_t n) const {
+  Words words(*this, index);
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = zigguratNormal(words);
 }
 
 void RandomCursor::refill(Kind kind) {

@@ -69,10 +69,33 @@ Eigen::Vector3d Earth::gravity(const Eigen::Vector3d& p_world) const {
   return impl_->r_ecef_world.transpose() * Eigen::Vector3d(gx, gy, gz);
 }
 
+Eigen::Vector3d LocalGravity::at(const Eigen::Vector3d& p) {
+  if (!earth_.rotating())
+    return earth_.gravity(p);
+  // Expansion points are the centres of a fixed grid, so the result is a pure function of p
+  // (a resumed run or another thread gets the same bits).
+  const Eigen::Vector3d cell = (p / radius_m_).array().round().matrix() * radius_m_;
+  if (!valid_ || cell != p0_) {
+    p0_ = cell;
+    g0_ = earth_.gravity(p0_);
+    constexpr double h = 10.0;  // m; the field's curvature makes the difference exact to 1e-12
+    for (int c = 0; c < 3; ++c) {
+      Eigen::Vector3d d = Eigen::Vector3d::Zero();
+      d[c] = h;
+      jacobian_.col(c) = (earth_.gravity(p0_ + d) - earth_.gravity(p0_ - d)) / (2.0 * h);
+    }
+    valid_ = true;
+  }
+  return g0_ + jacobian_ * (p - p0_);
+}
+
 ImuTruth imuTruth(const Earth& earth, const MountKinematics& m) {
+  return imuTruth(earth, m, earth.gravity(m.p_world));
+}
+
+ImuTruth imuTruth(const Earth& earth, const MountKinematics& m, const Eigen::Vector3d& gravity) {
   const Eigen::Vector3d& omega = earth.rate();
-  const Eigen::Vector3d f_world =
-      m.a_world + 2.0 * omega.cross(m.v_world) - earth.gravity(m.p_world);
+  const Eigen::Vector3d f_world = m.a_world + 2.0 * omega.cross(m.v_world) - gravity;
   return {m.r_world_sensor.transpose() * f_world,
           m.w_sensor + m.r_world_sensor.transpose() * omega};
 }

@@ -47,7 +47,10 @@ double allanDeviation(const std::vector<double>& rate, double dt, std::size_t m)
 }
 
 TriadErrorModel::TriadErrorModel(const TriadSpec& spec, const RandomStream& stream, double dt_s)
-    : spec_(spec), stream_(stream), dt_(dt_s) {
+    : spec_(spec),
+      stream_(stream),
+      slow_stream_(stream.seed(), stream.stream() ^ 0x736c6f77ULL),  // "slow"
+      dt_(dt_s) {
   const std::array<double, 24> run = normals(stream_, kRunIndex);
   for (int i = 0; i < 3; ++i) {
     turn_on_[i] = spec.turn_on_bias * run[static_cast<std::size_t>(i)];
@@ -61,12 +64,14 @@ TriadErrorModel::TriadErrorModel(const TriadSpec& spec, const RandomStream& stre
       g_(i, j) = spec.g_sensitivity * run[static_cast<std::size_t>(12 + 3 * i + j)];
 
   // Flicker: five GM terms whose Allan-deviation peaks (at 1.89 T) sit at τ0·10^{-1…1}.
-  for (int i = 0; i < kFlickerTerms; ++i) {
+  white_ = spec.noise_density / std::sqrt(dt_);
+  for (int i = 0; i < kFlickerTerms; ++i)
     flicker_tau_[static_cast<std::size_t>(i)] =
         spec.bias_instability_tau_s * std::pow(10.0, 0.5 * (i - 2)) / 1.89;
-    flicker_phi_[static_cast<std::size_t>(i)] =
-        std::exp(-dt_ / flicker_tau_[static_cast<std::size_t>(i)]);
-  }
+  const double slow_step = std::min(0.25, flicker_tau_[0] / 20.0);
+  stride_ = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::floor(slow_step / dt_)));
+  for (std::size_t i = 0; i < kFlickerTerms; ++i)
+    flicker_phi_[i] = std::exp(-static_cast<double>(stride_) * dt_ / flicker_tau_[i]);
   if (spec.bias_instability > 0.0) {
     double unit = 0.0;  // Allan variance at τ0 for σ = 1
     for (double t : flicker_tau_)
@@ -77,7 +82,6 @@ TriadErrorModel::TriadErrorModel(const TriadSpec& spec, const RandomStream& stre
 
 Eigen::Vector3d TriadErrorModel::measure(std::uint64_t k, const Eigen::Vector3d& x,
                                          const Eigen::Vector3d& f, double temperature_offset_k) {
-  const std::array<double, 24> w = normals(stream_, k);
   if (!started_) {
     // Stationary start of the GM terms, drawn from the per-run stream.
     const std::array<double, 24> init = normals(stream_, kRunIndex - 1);
@@ -85,15 +89,20 @@ Eigen::Vector3d TriadErrorModel::measure(std::uint64_t k, const Eigen::Vector3d&
       for (int a = 0; a < 3; ++a)
         flicker_[i][a] = flicker_sigma_ * init[3 * i + static_cast<std::size_t>(a)];
     started_ = true;
-  } else {
+  } else if (k % stride_ == 0 && (flicker_sigma_ > 0.0 || spec_.random_walk > 0.0)) {
+    // Slow terms, exactly discretised over one stride (keyed by the reading index; a
+    // separate stream from the white noise).
+    std::array<double, 24> w{};
+    slow_stream_.normals(k, w.data(), 6 + 3 * kFlickerTerms);
     for (std::size_t i = 0; i < kFlickerTerms; ++i) {
       const double q = flicker_sigma_ * std::sqrt(1.0 - flicker_phi_[i] * flicker_phi_[i]);
       for (int a = 0; a < 3; ++a)
         flicker_[i][a] =
             flicker_phi_[i] * flicker_[i][a] + q * w[6 + 3 * i + static_cast<std::size_t>(a)];
     }
+    const double step = std::sqrt(static_cast<double>(stride_) * dt_);
     for (int a = 0; a < 3; ++a)
-      walk_[a] += spec_.random_walk * std::sqrt(dt_) * w[3 + static_cast<std::size_t>(a)];
+      walk_[a] += spec_.random_walk * step * w[3 + static_cast<std::size_t>(a)];
   }
   Eigen::Vector3d bias =
       turn_on_ + walk_ +
@@ -101,8 +110,14 @@ Eigen::Vector3d TriadErrorModel::measure(std::uint64_t k, const Eigen::Vector3d&
   for (const Eigen::Vector3d& b : flicker_)
     bias += b;
   last_bias_ = bias;
-  const double white = spec_.noise_density / std::sqrt(dt_);
-  Eigen::Vector3d y = x + m_ * x + g_ * f + bias + white * Eigen::Vector3d(w[0], w[1], w[2]);
+  Eigen::Vector3d y = x + m_ * x + bias;
+  if (spec_.g_sensitivity > 0.0)
+    y += g_ * f;
+  if (white_ > 0.0) {
+    double n[3];
+    stream_.normals(k, n, 3);
+    y += white_ * Eigen::Vector3d(n[0], n[1], n[2]);
+  }
   for (int a = 0; a < 3; ++a) {
     y[a] = std::clamp(y[a], -spec_.range, spec_.range);
     if (spec_.resolution > 0.0) {

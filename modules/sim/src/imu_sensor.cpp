@@ -187,7 +187,7 @@ class ImuSensor final : public Sensor {
         s.a_world + r_wb * (s.alpha_body.cross(mount_) + s.w_body.cross(s.w_body.cross(mount_)));
     m.r_world_sensor = r_wb * r_body_sensor_;
     m.w_sensor = r_body_sensor_.transpose() * s.w_body;
-    const inertial::ImuTruth truth = inertial::imuTruth(earth_, m);
+    const inertial::ImuTruth truth = inertial::imuTruth(earth_, m, gravity_.at(m.p_world));
     const Eigen::Vector3d field =
         m.r_world_sensor.transpose() * inertial::dipoleField(anchor_, m.p_world);
     const double dt = toSeconds(s.t_ns);
@@ -220,6 +220,7 @@ class ImuSensor final : public Sensor {
   TimeNs period_;
   GeodeticAnchor anchor_;
   inertial::Earth earth_;
+  inertial::LocalGravity gravity_{earth_};
   inertial::TriadErrorModel accel_, gyro_, mag_;
   bool mag_on_;
   Eigen::Vector3d mount_;

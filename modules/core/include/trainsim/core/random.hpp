@@ -29,6 +29,13 @@ class RandomStream {
   /// Four independent standard normal deviates (Box-Muller on the four words).
   std::array<double, 4> normal4(std::uint64_t index, std::uint64_t block = 0) const;
 
+  /// `n` independent standard normals for `index`, by the ziggurat method (Marsaglia & Tsang
+  /// 2000, 128 layers, 32-bit resolution, separate bits for the layer index) on the 64-bit
+  /// words of blocks 0, 1, … of `index` in turn (rejections draw further words). A pure
+  /// function of (seed, stream, index, n). About five times cheaper per deviate than the
+  /// Box–Muller of normal4(), for high-rate sensor noise. Written here because none of the
+  /// project's dependencies offers a counter-keyed fast normal generator.
+  void normals(std::uint64_t index, double* out, std::size_t n) const;
   double uniform(std::uint64_t index) const { return uniform4(index)[0]; }
   double normal(std::uint64_t index) const { return normal4(index)[0]; }
 

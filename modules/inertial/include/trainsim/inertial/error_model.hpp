@@ -35,6 +35,11 @@ struct TriadSpec {
 /// decades around `bias_instability_tau_s`; one GM process would give a hump), rate random
 /// walk, white noise, saturation and quantization with the residual carried over. All
 /// processes are discretised exactly, so the statistics do not depend on the sample rate.
+/// The slow terms (bias instability, random walk) are updated every `slowStride()` readings,
+/// about every 0.25 s and never more than 1/20 of the shortest flicker correlation time, and
+/// held in between: their spectrum lies far below the sample rate, and drawing their 18
+/// normals at every reading would cost most of the model's time. White noise is drawn at
+/// every reading with the keyed ziggurat (RandomStream::normals).
 /// Random numbers are keyed by (seed, stream, reading index): a run is reproducible and can
 /// resume from state().
 class TriadErrorModel {
@@ -60,18 +65,22 @@ class TriadErrorModel {
   /// Each flicker GM term's σ for a floor of 0.664·B (derived from the closed-form Allan
   /// variance of a GM process; exposed for tests).
   double flickerSigma() const { return flicker_sigma_; }
+  std::uint64_t slowStride() const { return stride_; }
   const std::array<double, kFlickerTerms>& flickerTau() const { return flicker_tau_; }
 
  private:
   TriadSpec spec_;
   RandomStream stream_;
+  RandomStream slow_stream_;
   double dt_;
+  double white_ = 0.0;  // σ per reading
   Eigen::Matrix3d m_ = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d g_ = Eigen::Matrix3d::Zero();
   Eigen::Vector3d turn_on_ = Eigen::Vector3d::Zero();
   double flicker_sigma_ = 0.0;
   std::array<double, kFlickerTerms> flicker_tau_{};
-  std::array<double, kFlickerTerms> flicker_phi_{};
+  std::array<double, kFlickerTerms> flicker_phi_{};  // over one stride
+  std::uint64_t stride_ = 1;
   // Running state.
   std::array<Eigen::Vector3d, kFlickerTerms> flicker_{};
   Eigen::Vector3d walk_ = Eigen::Vector3d::Zero();
