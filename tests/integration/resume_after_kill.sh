@@ -1,13 +1,16 @@
 # kill -9 part-way through a run, then --resume: the dataset equals an uninterrupted run's,
-# byte for byte. First the real `trainsim generate` on a 100 km route (plan files, times.txt,
-# poses.txt); then the run stage on a synthetic trajectory with test sensors that also write
+# byte for byte. First the real `trainsim generate` on a 100 km route with tunnels (plan files,
+# times.txt, poses.txt, IMU, GNSS, odometer and balise files, all carrying state); then the run stage on a synthetic trajectory with test sensors that also write
 # per-frame files and append-only CSVs and carry random-walk state across checkpoints.
 source "$(dirname "$0")/lib.sh" "$@"
 
 cat >"$WORK/long.json" <<'JSON'
-{"route": {"generator": {"length_m": 100000}}, "trajectory": {"sample_period_ns": 100000000},
+{"trajectory": {"sample_period_ns": 100000000},
  "dataset": {"frame_period_ns": 100000000},
- "sensors": {"imus": [{"preset": "consumer", "period_ns": 100000000, "mount": {"x_m": 8, "z_m": 3.5}}]}}
+ "route": {"generator": {"length_m": 100000, "tunnel": {"probability": 0.3}}},
+ "sensors": {"imus": [{"preset": "consumer", "period_ns": 100000000, "mount": {"x_m": 8, "z_m": 3.5}}],
+             "gnss_receivers": [{}], "odometers": [{"period_ns": 100000000}],
+             "balise_readers": [{"period_ns": 100000000}]}}
 JSON
 expect_exit 0 "generate: uninterrupted run" -- "$TRAINSIM" generate "$WORK/long.json" \
   --out "$WORK/gref" --progress none

@@ -65,6 +65,7 @@ TriadErrorModel::TriadErrorModel(const TriadSpec& spec, const RandomStream& stre
 
   // Flicker: five GM terms whose Allan-deviation peaks (at 1.89 T) sit at τ0·10^{-1…1}.
   white_ = spec.noise_density / std::sqrt(dt_);
+  slow_ = spec.bias_instability > 0.0 || spec.random_walk > 0.0;
   for (int i = 0; i < kFlickerTerms; ++i)
     flicker_tau_[static_cast<std::size_t>(i)] =
         spec.bias_instability_tau_s * std::pow(10.0, 0.5 * (i - 2)) / 1.89;
@@ -89,7 +90,10 @@ Eigen::Vector3d TriadErrorModel::measure(std::uint64_t k, const Eigen::Vector3d&
       for (int a = 0; a < 3; ++a)
         flicker_[i][a] = flicker_sigma_ * init[3 * i + static_cast<std::size_t>(a)];
     started_ = true;
-  } else if (k % stride_ == 0 && (flicker_sigma_ > 0.0 || spec_.random_walk > 0.0)) {
+    slow_sum_ = walk_;
+    for (const Eigen::Vector3d& b : flicker_)
+      slow_sum_ += b;
+  } else if (slow_ && k >= next_slow_ && k % stride_ == 0) {
     // Slow terms, exactly discretised over one stride (keyed by the reading index; a
     // separate stream from the white noise).
     std::array<double, 24> w{};
@@ -103,12 +107,17 @@ Eigen::Vector3d TriadErrorModel::measure(std::uint64_t k, const Eigen::Vector3d&
     const double step = std::sqrt(static_cast<double>(stride_) * dt_);
     for (int a = 0; a < 3; ++a)
       walk_[a] += spec_.random_walk * step * w[3 + static_cast<std::size_t>(a)];
+    slow_sum_ = walk_;
+    for (const Eigen::Vector3d& b : flicker_)
+      slow_sum_ += b;
   }
-  Eigen::Vector3d bias =
-      turn_on_ + walk_ +
-      Eigen::Vector3d::Constant(spec_.temperature_coefficient * temperature_offset_k);
-  for (const Eigen::Vector3d& b : flicker_)
-    bias += b;
+  // The next update is due at the next multiple of the stride (a pure function of k, so a
+  // resumed run keeps the same schedule; the modulo is only taken once per stride).
+  if (k >= next_slow_)
+    next_slow_ = (k / stride_ + 1) * stride_;
+  Eigen::Vector3d bias = turn_on_ + slow_sum_;
+  if (spec_.temperature_coefficient != 0.0)
+    bias.array() += spec_.temperature_coefficient * temperature_offset_k;
   last_bias_ = bias;
   Eigen::Vector3d y = x + m_ * x + bias;
   if (spec_.g_sensitivity > 0.0)
@@ -141,6 +150,7 @@ nlohmann::json TriadErrorModel::state() const {
 }
 
 void TriadErrorModel::restore(const nlohmann::json& s) {
+  next_slow_ = 0;
   started_ = s.at("started").get<bool>();
   for (std::size_t i = 0; i < kFlickerTerms; ++i)
     for (std::size_t a = 0; a < 3; ++a)
@@ -149,6 +159,9 @@ void TriadErrorModel::restore(const nlohmann::json& s) {
     walk_[static_cast<int>(a)] = s.at("walk").at(a).get<double>();
     residual_[static_cast<int>(a)] = s.at("residual").at(a).get<double>();
   }
+  slow_sum_ = walk_;
+  for (const Eigen::Vector3d& b : flicker_)
+    slow_sum_ += b;
 }
 
 }  // namespace trainsim::inertial

@@ -192,7 +192,9 @@ class ImuSensor final : public Sensor {
         m.r_world_sensor.transpose() * inertial::dipoleField(anchor_, m.p_world);
     const double dt = toSeconds(s.t_ns);
     const double temperature = t_start_ + t_rate_ * dt;
-    const auto index = static_cast<std::uint64_t>(k);
+    // The error models count readings (their slow terms update every so many readings).
+    const auto index = static_cast<std::uint64_t>(s.t_ns / period_);
+    (void)k;
     const Eigen::Vector3d a = accel_.measure(index, truth.specific_force, {}, temperature);
     const Eigen::Vector3d w =
         gyro_.measure(index, truth.angular_rate, truth.specific_force, temperature);

@@ -49,6 +49,7 @@ class GnssSensor final : public Sensor {
               c.at("vertical_sigma_m").get<double>()};
     white_ = c.at("white_sigma_m").get<double>();
     vel_sigma_ = c.at("velocity_sigma_m_s").get<double>();
+    vel_gm_sigma_ = c.at("velocity_gm_sigma_m_s").get<double>();
     phi_ = std::exp(-toSeconds(period_) / c.at("correlation_time_s").get<double>());
     reacquire_ns_ = fromSeconds(c.at("reacquisition_s").get<double>());
     // Along the track, the antenna sits this far ahead of the front pivot (negative: behind).
@@ -64,8 +65,10 @@ class GnssSensor final : public Sensor {
     if (state.is_null()) {
       csv_->write("t_ns,fix,latitude_deg,longitude_deg,height_m,ve_m_s,vn_m_s,vu_m_s\n");
     } else {
-      for (int a = 0; a < 3; ++a)
-        gm_[a] = state.at("gm").at(static_cast<std::size_t>(a)).get<double>();
+      for (std::size_t a = 0; a < 3; ++a) {
+        gm_[a] = state.at("gm").at(a).get<double>();
+        vel_gm_[a] = state.at("vel_gm").at(a).get<double>();
+      }
       started_ = state.at("started").get<bool>();
       last_tunnel_ns_ = state.at("last_tunnel_ns").get<TimeNs>();
     }
@@ -84,11 +87,15 @@ class GnssSensor final : public Sensor {
     const double chainage = s.chainage_m + ahead_of_front_;
     const auto n = rnd_.normal4(static_cast<std::uint64_t>(k), 0);
     const auto m = rnd_.normal4(static_cast<std::uint64_t>(k), 1);
+    const auto vn = rnd_.normal4(static_cast<std::uint64_t>(k), 3);
     // The error processes run through outages too (the satellites' geometry does not stop).
-    for (int a = 0; a < 3; ++a)
-      gm_[a] = started_ ? phi_ * gm_[a] + sigma_[a] * std::sqrt(1 - phi_ * phi_) *
-                                              n[static_cast<std::size_t>(a)]
-                        : sigma_[a] * n[static_cast<std::size_t>(a)];
+    // Exact Gauss–Markov steps; the first reading starts from the stationary distribution.
+    const double q = started_ ? std::sqrt(1 - phi_ * phi_) : 1.0;
+    const double f = started_ ? phi_ : 0.0;
+    for (std::size_t a = 0; a < 3; ++a) {
+      gm_[a] = f * gm_[a] + sigma_[static_cast<int>(a)] * q * n[a];
+      vel_gm_[a] = f * vel_gm_[a] + vel_gm_sigma_ * q * vn[a];
+    }
     started_ = true;
     if (inTunnel(chainage))
       last_tunnel_ns_ = s.t_ns;
@@ -107,12 +114,14 @@ class GnssSensor final : public Sensor {
     const auto w = rnd_.normal4(static_cast<std::uint64_t>(k), 2);
     csv_->write(fmt::format("{},1,{:.10f},{:.10f},{:.4f},{:.4f},{:.4f},{:.4f}\n", s.t_ns,
                             g.latitude_deg, g.longitude_deg, g.height_m,
-                            v_local.x() + vel_sigma_ * w[0], v_local.y() + vel_sigma_ * w[1],
-                            v_local.z() + vel_sigma_ * w[2]));
+                            v_local.x() + vel_gm_[0] + vel_sigma_ * w[0],
+                            v_local.y() + vel_gm_[1] + vel_sigma_ * w[1],
+                            v_local.z() + vel_gm_[2] + vel_sigma_ * w[2]));
   }
 
   nlohmann::json state() const override {
     return {{"gm", {gm_[0], gm_[1], gm_[2]}},
+            {"vel_gm", {vel_gm_[0], vel_gm_[1], vel_gm_[2]}},
             {"started", started_},
             {"last_tunnel_ns", last_tunnel_ns_}};
   }
@@ -124,9 +133,10 @@ class GnssSensor final : public Sensor {
   const track::Route& route_;
   RandomStream rnd_;
   Eigen::Vector3d antenna_, sigma_;
-  double white_ = 0, vel_sigma_ = 0, phi_ = 0, ahead_of_front_ = 0;
+  double white_ = 0, vel_sigma_ = 0, vel_gm_sigma_ = 0, phi_ = 0, ahead_of_front_ = 0;
   TimeNs reacquire_ns_ = 0;
   std::array<double, 3> gm_{};
+  std::array<double, 3> vel_gm_{};
   bool started_ = false;
   TimeNs last_tunnel_ns_ = -1;
   io::AppendFile* csv_ = nullptr;
@@ -372,6 +382,9 @@ scenario::Param declareGnss() {
            .range(0.1, 1e5),
        number("white_sigma_m", 0.3, "m", "White position noise, 1 sigma per axis").range(0, 100),
        number("velocity_sigma_m_s", 0.05, "m/s", "White velocity noise, 1 sigma per axis")
+           .range(0, 10),
+       number("velocity_gm_sigma_m_s", 0.02, "m/s",
+              "Gauss-Markov velocity error (same correlation time), 1 sigma per axis")
            .range(0, 10),
        number("reacquisition_s", 5.0, "s", "No fix for this long after leaving a tunnel")
            .range(0, 600)});

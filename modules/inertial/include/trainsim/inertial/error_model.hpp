@@ -86,6 +86,9 @@ class TriadErrorModel {
   Eigen::Vector3d walk_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d residual_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_bias_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d slow_sum_ = Eigen::Vector3d::Zero();  // walk + flicker terms
+  std::uint64_t next_slow_ = 0;                         // next reading due a slow update
+  bool slow_ = false;
   bool started_ = false;
 };
 
