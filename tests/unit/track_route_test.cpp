@@ -138,39 +138,30 @@ TEST(RouteGenerator, ThousandKilometresKeepSubMillimetrePrecision) {
   const long double x = ref.x, y = ref.y;
   const Eigen::Vector3d end = d.route.track.atChainage(d.route.track.length()).position;
   EXPECT_LT(std::hypot(end.x() - static_cast<double>(x), end.y() - static_cast<double>(y)), 1e-3);
-  // 3D length: Simpson of 1/cos θ(s) over every vertical element.
+  // Simpson's rule of a function of the pitch over every vertical element (4 m steps).
   const VerticalProfile& v = d.route.track.vertical();
-  long double u = 0;
-  for (std::size_t i = 0; i < v.elements().size(); ++i) {
-    const double a = v.elementStart(i), b = std::min(v.elementStart(i + 1), h.length());
-    if (b <= a)
-      continue;
-    const int n = 2 * std::max(1, static_cast<int>((b - a) / 4.0));
-    const long double step = (b - a) / n;
-    long double sum = 0;
-    for (int k = 0; k <= n; ++k) {
-      const long double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
-      sum += w / std::cos(v.at(a + static_cast<double>(k * step)).pitch_rad);
+  auto integrate = [&](auto&& of_pitch) {
+    long double total = 0;
+    for (std::size_t i = 0; i < v.elements().size(); ++i) {
+      const double a = v.elementStart(i), b = std::min(v.elementStart(i + 1), h.length());
+      if (b <= a)
+        continue;
+      const int n = 2 * std::max(1, static_cast<int>((b - a) / 4.0));
+      const long double step = (b - a) / n;
+      long double sum = 0;
+      for (int k = 0; k <= n; ++k) {
+        const long double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
+        sum += w * of_pitch(v.at(a + static_cast<double>(k * step)).pitch_rad);
+      }
+      total += sum * step / 3;
     }
-    u += sum * step / 3;
-  }
-  EXPECT_LT(std::abs(d.route.track.distanceLength() - static_cast<double>(u)), 1e-3);
-  // Height: Simpson of tan θ(s).
-  long double z = 0;
-  for (std::size_t i = 0; i < v.elements().size(); ++i) {
-    const double a = v.elementStart(i), b = std::min(v.elementStart(i + 1), h.length());
-    if (b <= a)
-      continue;
-    const int n = 2 * std::max(1, static_cast<int>((b - a) / 4.0));
-    const long double step = (b - a) / n;
-    long double sum = 0;
-    for (int k = 0; k <= n; ++k) {
-      const long double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
-      sum += w * std::tan(v.at(a + static_cast<double>(k * step)).pitch_rad);
-    }
-    z += sum * step / 3;
-  }
-  EXPECT_LT(std::abs(end.z() - static_cast<double>(z)), 1e-3);
+    return static_cast<double>(total);
+  };
+  // 3D length: ∫ 1/cos θ ds; height: ∫ tan θ ds.
+  const double u = integrate([](double t) { return 1.0 / std::cos(t); });
+  EXPECT_LT(std::abs(d.route.track.distanceLength() - u), 1e-3);
+  const double z = integrate([](double t) { return std::tan(t); });
+  EXPECT_LT(std::abs(end.z() - z), 1e-3);
 }
 
 class WaypointFile : public ::testing::Test {
