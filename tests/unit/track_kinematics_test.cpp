@@ -152,26 +152,18 @@ TEST(Kinematics, FiniteDifferencesMatchClosedFormsAtSecondOrder) {
       continue;
     const BodyState b = at(time);
     const double h = 0.01;
-    expectSecondOrder(
-        [&] { return b.pointVelocity(r); },
-        [&](double k) {
-          return Eigen::Vector3d((at(time + k).pointPosition(r) - at(time - k).pointPosition(r)) /
-                                 (2 * k));
-        },
-        h, 1e-9);
-    expectSecondOrder(
-        [&] { return b.pointAcceleration(r); },
-        [&](double k) {
-          return Eigen::Vector3d((at(time + k).pointVelocity(r) - at(time - k).pointVelocity(r)) /
-                                 (2 * k));
-        },
-        h, 1e-9);
-    expectSecondOrder(
-        [&] { return b.alpha_body; },
-        [&](double k) {
-          return Eigen::Vector3d((at(time + k).w_body - at(time - k).w_body) / (2 * k));
-        },
-        h, 1e-11);
+    // Central difference over ±k of a vector quantity of the body state.
+    auto central = [&](auto quantity) {
+      return [&, quantity](double k) {
+        return Eigen::Vector3d((quantity(at(time + k)) - quantity(at(time - k))) / (2 * k));
+      };
+    };
+    expectSecondOrder([&] { return b.pointVelocity(r); },
+                      central([&](const BodyState& x) { return x.pointPosition(r); }), h, 1e-9);
+    expectSecondOrder([&] { return b.pointAcceleration(r); },
+                      central([&](const BodyState& x) { return x.pointVelocity(r); }), h, 1e-9);
+    expectSecondOrder([&] { return b.alpha_body; },
+                      central([](const BodyState& x) { return x.w_body; }), h, 1e-11);
     // Angular velocity against the rotation increment over ±h.
     expectSecondOrder([&] { return b.w_body; },
                       [&](double k) {

@@ -100,16 +100,17 @@ ImuTruth imuTruth(const Earth& earth, const MountKinematics& m, const Eigen::Vec
           m.w_sensor + m.r_world_sensor.transpose() * omega};
 }
 
-Eigen::Vector3d dipoleField(const GeodeticAnchor& anchor, const Eigen::Vector3d& p_world) {
+DipoleField::DipoleField(const GeodeticAnchor& anchor)
+    : anchor_(anchor), r_ecef_world_(makeFrame(anchor.origin()).r_ecef_world) {}
+
+Eigen::Vector3d DipoleField::at(const Eigen::Vector3d& p_world) const {
   constexpr double kB0 = 3.12e-5;
   constexpr double kPoleLat = 80.8 * std::numbers::pi / 180.0;
   constexpr double kPoleLon = -72.7 * std::numbers::pi / 180.0;
   const double re = GeographicLib::Constants::WGS84_a();
-  const GeodeticPoint g = anchor.fromEnu(p_world);
+  const GeodeticPoint g = anchor_.fromEnu(p_world);
   double x, y, z;
-  std::vector<double> m(9);
-  GeographicLib::Geocentric::WGS84().Forward(g.latitude_deg, g.longitude_deg, g.height_m, x, y, z,
-                                             m);
+  GeographicLib::Geocentric::WGS84().Forward(g.latitude_deg, g.longitude_deg, g.height_m, x, y, z);
   const Eigen::Vector3d r(x, y, z);
   const double rn = r.norm();
   const Eigen::Vector3d rh = r / rn;
@@ -119,15 +120,7 @@ Eigen::Vector3d dipoleField(const GeodeticAnchor& anchor, const Eigen::Vector3d&
   const Eigen::Vector3d mh = -pole;
   const double scale = kB0 * std::pow(re / rn, 3);
   const Eigen::Vector3d b_ecef = scale * (3.0 * mh.dot(rh) * rh - mh);
-  // ECEF → world (anchor ENU).
-  Eigen::Matrix3d r_ecef_enu;
-  GeographicLib::Geocentric::WGS84().Forward(anchor.origin().latitude_deg,
-                                             anchor.origin().longitude_deg,
-                                             anchor.origin().height_m, x, y, z, m);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      r_ecef_enu(i, j) = m[static_cast<std::size_t>(3 * i + j)];
-  return r_ecef_enu.transpose() * b_ecef;
+  return r_ecef_world_.transpose() * b_ecef;
 }
 
 }  // namespace trainsim::inertial

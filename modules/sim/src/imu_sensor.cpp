@@ -177,7 +177,7 @@ class ImuSensor final : public Sensor {
     }
   }
 
-  void capture(std::int64_t k, const TrajectorySample& s) override {
+  void capture(std::int64_t, const TrajectorySample& s) override {
     const Eigen::Matrix3d r_wb = s.q_world_body.toRotationMatrix();
     const Eigen::Vector3d arm = r_wb * mount_;
     inertial::MountKinematics m;
@@ -188,13 +188,11 @@ class ImuSensor final : public Sensor {
     m.r_world_sensor = r_wb * r_body_sensor_;
     m.w_sensor = r_body_sensor_.transpose() * s.w_body;
     const inertial::ImuTruth truth = inertial::imuTruth(earth_, m, gravity_.at(m.p_world));
-    const Eigen::Vector3d field =
-        m.r_world_sensor.transpose() * inertial::dipoleField(anchor_, m.p_world);
+    const Eigen::Vector3d field = m.r_world_sensor.transpose() * field_model_.at(m.p_world);
     const double dt = toSeconds(s.t_ns);
     const double temperature = t_start_ + t_rate_ * dt;
     // The error models count readings (their slow terms update every so many readings).
     const auto index = static_cast<std::uint64_t>(s.t_ns / period_);
-    (void)k;
     const Eigen::Vector3d a = accel_.measure(index, truth.specific_force, {}, temperature);
     const Eigen::Vector3d w =
         gyro_.measure(index, truth.angular_rate, truth.specific_force, temperature);
@@ -223,6 +221,7 @@ class ImuSensor final : public Sensor {
   GeodeticAnchor anchor_;
   inertial::Earth earth_;
   inertial::LocalGravity gravity_{earth_};
+  inertial::DipoleField field_model_{anchor_};
   inertial::TriadErrorModel accel_, gyro_, mag_;
   bool mag_on_;
   Eigen::Vector3d mount_;

@@ -108,13 +108,13 @@ track::MotionState TrainTrajectory::motion(std::int64_t k) const {
   return motion_.at(toSeconds(k * period_));
 }
 
-track::BodyState TrainTrajectory::body(std::int64_t k) const {
-  return track::bodyState(track_, vehicle_, motion(k));
+track::BodyState TrainTrajectory::body(const track::MotionState& m) const {
+  return track::bodyState(track_, vehicle_, m);
 }
 
 TrajectorySample TrainTrajectory::sample(std::int64_t k) const {
   const track::MotionState m = motion(k);
-  const track::BodyState b = track::bodyState(track_, vehicle_, m);
+  const track::BodyState b = body(m);
   TrajectorySample s;
   s.t_ns = k * period_;
   s.chainage_m = b.front_track.chainage_m;
@@ -286,7 +286,7 @@ std::string trajectoryCsv(const Plan& plan) {
   const Eigen::Vector3d& ref = traj.referencePoint();
   for (std::int64_t k = 0; k < traj.sampleCount(); ++k) {
     const track::MotionState m = traj.motion(k);
-    const track::BodyState b = traj.body(k);
+    const track::BodyState b = traj.body(m);
     const Eigen::Vector3d p = b.pointPosition(ref);
     const Eigen::Vector3d v = b.pointVelocity(ref);
     const Eigen::Vector3d a = b.pointAcceleration(ref);

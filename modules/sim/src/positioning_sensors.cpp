@@ -108,9 +108,10 @@ class GnssSensor final : public Sensor {
                               gm_[2] + white_ * m[1]);
     // Errors are east/north/up at the antenna; the anchor frame's axes differ from the local
     // ones by the angle subtended at the Earth's centre, which rotateAnchorFromLocalEnu gives.
-    const Eigen::Vector3d p_meas = p + anchor_.rotationAnchorFromLocalEnu(p) * err;
+    const Eigen::Matrix3d r_anchor_local = anchor_.rotationAnchorFromLocalEnu(p);
+    const Eigen::Vector3d p_meas = p + r_anchor_local * err;
     const GeodeticPoint g = anchor_.fromEnu(p_meas);
-    const Eigen::Vector3d v_local = anchor_.rotationAnchorFromLocalEnu(p).transpose() * v;
+    const Eigen::Vector3d v_local = r_anchor_local.transpose() * v;
     const auto w = rnd_.normal4(static_cast<std::uint64_t>(k), 2);
     csv_->write(fmt::format("{},1,{:.10f},{:.10f},{:.4f},{:.4f},{:.4f},{:.4f}\n", s.t_ns,
                             g.latitude_deg, g.longitude_deg, g.height_m,

@@ -258,17 +258,12 @@ Piece line(double x0, double x1, double y0, double y1, std::string type, std::st
 
 Piece arc(double x0, double x1, double xt, double yt, double bend, double r, std::string type,
           std::string part, bool in_turnout) {
-  Piece p;
+  Piece p = line(x0, x1, 0.0, 0.0, std::move(type), std::move(part), in_turnout);
   p.shape = Piece::Shape::kArc;
-  p.x0 = x0;
-  p.x1 = x1;
   p.xt = xt;
   p.yt = yt;
   p.bend = bend;
   p.r = r;
-  p.type = std::move(type);
-  p.part = std::move(part);
-  p.in_turnout = in_turnout;
   return p;
 }
 

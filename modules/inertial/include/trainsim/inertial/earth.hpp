@@ -79,6 +79,14 @@ ImuTruth imuTruth(const Earth& earth, const MountKinematics& m, const Eigen::Vec
 /// Earth's main field as a tilted centred dipole (geomagnetic north pole at 80.8° N, 72.7° W,
 /// B0 = 3.12e-5 T at the equator), in tesla, world axes. A stand-in for WMM, accurate to some
 /// degrees in declination; it gives the magnetometer a physically shaped reference.
-Eigen::Vector3d dipoleField(const GeodeticAnchor& anchor, const Eigen::Vector3d& p_world);
+class DipoleField {
+ public:
+  explicit DipoleField(const GeodeticAnchor& anchor);
+  Eigen::Vector3d at(const Eigen::Vector3d& p_world) const;
+
+ private:
+  GeodeticAnchor anchor_;
+  Eigen::Matrix3d r_ecef_world_;  // the anchor's ENU axes in ECEF, computed once
+};
 
 }  // namespace trainsim::inertial

@@ -28,7 +28,8 @@ class TrainTrajectory final : public Trajectory {
   TrajectorySample sample(std::int64_t k) const override;
 
   track::MotionState motion(std::int64_t k) const;
-  track::BodyState body(std::int64_t k) const;
+  /// The body on its bogies for a motion state (e.g. motion(k)).
+  track::BodyState body(const track::MotionState& m) const;
   const Eigen::Vector3d& referencePoint() const { return reference_; }
 
  private:
