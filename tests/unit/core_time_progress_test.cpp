@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -113,6 +114,32 @@ TEST(Progress, NoneAndAutoWithoutTerminalAreSilent) {
   EXPECT_TRUE(readAll(bar).empty());
   EXPECT_TRUE(readAll(json).empty());
   EXPECT_THROW(parseProgressMode("loud"), ConfigError);
+  std::fclose(bar);
+  std::fclose(json);
+}
+
+TEST(Progress, ListenerSeesFirstAndLastUpdateOfEachStageEvenWhenSilent) {
+  std::FILE* bar = std::tmpfile();
+  std::FILE* json = std::tmpfile();
+  std::vector<std::pair<std::string, std::int64_t>> seen;
+  {
+    ProgressReporter p(ProgressMode::kNone, bar, json);
+    p.setListener([&](const ProgressUpdate& u) {
+      seen.emplace_back(std::string(u.stage), u.done);
+      EXPECT_EQ(u.total, 40);
+      EXPECT_EQ(u.unit, "samples");
+    });
+    p.begin("run", 40, "samples", 10);
+    for (int i = 11; i <= 40; ++i)
+      p.update(i);  // rate-limited: only the completed stage is forced through
+    p.end();
+  }
+  ASSERT_GE(seen.size(), 3u);
+  EXPECT_EQ(seen.front(), std::make_pair(std::string("run"), std::int64_t{10}));
+  EXPECT_EQ(seen.back(), std::make_pair(std::string("run"), std::int64_t{40}));
+  EXPECT_LT(seen.size(), 10u);
+  EXPECT_TRUE(readAll(bar).empty());
+  EXPECT_TRUE(readAll(json).empty());
   std::fclose(bar);
   std::fclose(json);
 }

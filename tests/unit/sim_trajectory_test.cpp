@@ -70,5 +70,40 @@ TEST(TrainTrajectory, EndsAtRestAndTimesAreExact) {
   EXPECT_GT(traj.sample(n / 2).speed_m_s, 0.0);
 }
 
+TEST(BlockScenario, AGeneratedRouteEditedAsBlocksPlansTheSameMainTrack) {
+  scenario::Json input = scenario::Json::parse(R"({"route": {"generator": {"length_m": 8000}}})");
+  const auto generated = makePlan(scenario::Scenario::resolve(input, scenarioSchema()));
+  input["route"]["source"] = "blocks";
+  input["route"]["blocks"] = blockListJson(generated->route.route);
+  const auto rebuilt = makePlan(scenario::Scenario::resolve(input, scenarioSchema()));
+  const track::Route& a = generated->route.route;
+  const track::Route& b = rebuilt->route.route;
+  ASSERT_EQ(a.blocks.size(), b.blocks.size());
+  EXPECT_NEAR(a.track.length(), b.track.length(), 1e-5);
+  const auto ea = a.track.horizontal().at(a.track.length()).position_m;
+  const auto eb = b.track.horizontal().at(b.track.length()).position_m;
+  EXPECT_LT((ea - eb).norm(), 1e-3);  // lengths were rounded to 1 µm
+  EXPECT_EQ(generated->layout.tracks.size(), rebuilt->layout.tracks.size());
+}
+
+TEST(BlockScenario, ProblemsNameTheBlock) {
+  scenario::Json input = scenario::Json::parse(R"({"route": {"source": "blocks", "blocks": []}})");
+  auto problems = scenarioSchema().resolve(input).problems;
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].path, "route.blocks");
+  input["route"]["blocks"] = scenario::Json::parse(
+      R"([{"type": "straight", "length_m": 300}, {"type": "tunnel", "length_m": 0},
+          {"type": "curve", "length_m": 0, "transition_m": 0}])");
+  problems = scenarioSchema().resolve(input).problems;
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].path, "route.blocks[1].length_m");
+  EXPECT_EQ(problems[1].path, "route.blocks[2].length_m");
+  // Range checks name the field (consistency checks wait until the fields are valid).
+  input["route"]["blocks"][2] = {{"type", "curve"}, {"radius_m", 5.0}};
+  problems = scenarioSchema().resolve(input).problems;
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].path, "route.blocks[2].radius_m");
+}
+
 }  // namespace
 }  // namespace trainsim::sim

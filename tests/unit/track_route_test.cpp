@@ -164,6 +164,99 @@ TEST(RouteGenerator, ThousandKilometresKeepSubMillimetrePrecision) {
   EXPECT_LT(std::abs(end.z() - z), 1e-3);
 }
 
+TEST(BlockRoute, CurveGeometryIsTheGivenOneInClosedForm) {
+  RouteOptions opt;
+  // 300 m straight, a 1500 m left curve with an 80 m arc and given 60 m transitions and 100 mm
+  // cant, a 200 m station climbing 2 permille, then a right curve with automatic transitions.
+  std::vector<BlockSpec> blocks(4);
+  blocks[0].length_m = 300.0;
+  blocks[1] = {BlockType::kCurve, 80.0, 1500.0, true, 60.0, 0.100, 0.0};
+  blocks[2] = {BlockType::kStation, 200.0, 0.0, true, -1.0, -1.0, 0.002};
+  blocks[3] = {BlockType::kCurve, 150.0, 2000.0, false, -1.0, -1.0, 0.002};
+  const DesignedRoute r = buildBlockRoute(blocks, opt);
+  ASSERT_EQ(r.route.blocks.size(), 4u);
+  const Block& c = r.route.blocks[1];
+  EXPECT_EQ(c.type, BlockType::kCurve);
+  EXPECT_DOUBLE_EQ(c.chainage_begin_m, 300.0);
+  EXPECT_NEAR(c.chainage_end_m, 300.0 + 80.0 + 2 * 60.0, 1e-9);
+  EXPECT_DOUBLE_EQ(c.radius_m, 1500.0);
+  EXPECT_DOUBLE_EQ(c.cant_m, -0.100);  // a left curve raises the right rail
+  // Heading change through transition + arc + transition: L_arc/R + 2·L_t/(2R).
+  const HorizontalAlignment& h = r.route.track.horizontal();
+  EXPECT_NEAR(h.at(c.chainage_end_m).heading_rad, (80.0 + 60.0) / 1500.0, 1e-12);
+  // Automatic transitions and cant are the rules' choice, as in the generator.
+  const Block& c2 = r.route.blocks[3];
+  const double cant = opt.rules.appliedCant(opt.rules.design_speed_m_s, 2000.0);
+  EXPECT_DOUBLE_EQ(c2.cant_m, cant);
+  EXPECT_DOUBLE_EQ(c2.radius_m, -2000.0);
+  const std::vector<BlockSpec> back = blockSpecs(r.route);
+  ASSERT_EQ(back.size(), 4u);
+  EXPECT_DOUBLE_EQ(back[1].transition_m, 60.0);
+  EXPECT_GE(back[3].transition_m, 20.0);
+  EXPECT_EQ(std::fmod(back[3].transition_m, 5.0), 0.0);
+  EXPECT_FALSE(back[3].left);
+  // Station on a 2 permille climb, stopping the train; a vertical curve joins the grades.
+  EXPECT_TRUE(r.route.blocks[2].stop);
+  EXPECT_EQ(r.stops.size(), 1u);
+  const double s_mid =
+      0.5 * (r.route.blocks[2].chainage_begin_m + r.route.blocks[2].chainage_end_m);
+  EXPECT_NEAR(std::tan(r.route.track.vertical().at(s_mid).pitch_rad), 0.002, 1e-12);
+  EXPECT_NEAR(std::tan(r.route.track.vertical().at(100.0).pitch_rad), 0.0, 1e-15);
+  EXPECT_TRUE(r.fitting.empty());
+  // The given 60 m transitions are too short for 100 mm at 160 km/h (v·ΔD/(dD/dt) = 89 m):
+  // the block list is laid out as given and the rule check names that curve alone.
+  const std::vector<Violation> v = checkDesign(r.route, opt.rules);
+  ASSERT_FALSE(v.empty());
+  for (const Violation& x : v) {
+    EXPECT_EQ(x.rule, "transition_length") << x.message;
+    EXPECT_EQ(x.block_id, 1) << x.message;
+  }
+}
+
+TEST(BlockRoute, GeneratedRouteRebuildsFromItsBlockList) {
+  RouteOptions opt;
+  RouteGeneratorParams g;
+  g.length_m = 20000.0;
+  for (std::uint64_t seed : {1u, 7u, 42u}) {
+    const DesignedRoute gen = generateRoute(g, opt, seed);
+    const DesignedRoute rebuilt = buildBlockRoute(blockSpecs(gen.route), opt);
+    ASSERT_EQ(rebuilt.route.blocks.size(), gen.route.blocks.size());
+    for (std::size_t i = 0; i < gen.route.blocks.size(); ++i) {
+      const Block& a = gen.route.blocks[i];
+      const Block& b = rebuilt.route.blocks[i];
+      EXPECT_EQ(a.type, b.type);
+      EXPECT_NEAR(a.chainage_end_m, b.chainage_end_m, 1e-8);
+      EXPECT_DOUBLE_EQ(a.radius_m, b.radius_m);
+      EXPECT_DOUBLE_EQ(a.cant_m, b.cant_m);
+      EXPECT_DOUBLE_EQ(a.speed_limit_m_s, b.speed_limit_m_s);
+    }
+    // Same horizontal alignment: same end point and heading.
+    const double len = gen.route.track.length();
+    const auto ea = gen.route.track.horizontal().at(len);
+    const auto eb = rebuilt.route.track.horizontal().at(len);
+    EXPECT_LT((ea.position_m - eb.position_m).norm(), 1e-6);
+    EXPECT_NEAR(ea.heading_rad, eb.heading_rad, 1e-12);
+    // Mean grades per block keep every block end at its height.
+    for (const Block& b : gen.route.blocks)
+      EXPECT_NEAR(rebuilt.route.track.vertical().at(b.chainage_end_m).z_m,
+                  gen.route.track.vertical().at(b.chainage_end_m).z_m, 2.0);
+  }
+}
+
+TEST(BlockRoute, UnbuildableBlocksNameTheirIndex) {
+  RouteOptions opt;
+  std::vector<BlockSpec> blocks(2);
+  blocks[0].length_m = 100.0;
+  blocks[1] = {BlockType::kCurve, 50.0, 0.0, true, -1.0, -1.0, 0.0};
+  try {
+    buildBlockRoute(blocks, opt);
+    FAIL() << "a curve without radius was laid out";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("route.blocks[1]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(buildBlockRoute({}, opt), ConfigError);
+}
+
 class WaypointFile : public ::testing::Test {
  protected:
   std::filesystem::path write(const std::string& text) {

@@ -44,21 +44,21 @@ void ProgressReporter::begin(std::string_view stage, std::int64_t total, std::st
   start_done_ = done_;
   start_ = Clock::now();
   active_ = true;
-  emit(true);
+  show(true);
 }
 
 void ProgressReporter::update(std::int64_t done) {
   if (!active_)
     return;
   done_ = std::clamp<std::int64_t>(done, 0, total_);
-  emit(done_ == total_);
+  show(done_ == total_);
 }
 
 void ProgressReporter::end() {
   if (!active_)
     return;
   done_ = total_;
-  emit(true);
+  show(true);
   if (mode_ == ProgressMode::kBar) {
     std::fputc('\n', bar_stream_);
     std::fflush(bar_stream_);
@@ -66,12 +66,12 @@ void ProgressReporter::end() {
   active_ = false;
 }
 
-void ProgressReporter::emit(bool force) {
-  if (mode_ == ProgressMode::kNone)
+void ProgressReporter::show(bool force) {
+  if (mode_ == ProgressMode::kNone && !listener_)
     return;
   const auto now = Clock::now();
-  const auto min_gap =
-      mode_ == ProgressMode::kBar ? std::chrono::milliseconds(100) : std::chrono::milliseconds(500);
+  const auto min_gap = mode_ == ProgressMode::kJson ? std::chrono::milliseconds(500)
+                                                    : std::chrono::milliseconds(100);
   if (!force && now - last_emit_ < min_gap)
     return;
   last_emit_ = now;
@@ -82,6 +82,10 @@ void ProgressReporter::emit(bool force) {
   const double rate = elapsed > 0 ? static_cast<double>(done_ - start_done_) / elapsed : 0.0;
   const double eta = rate > 0 ? static_cast<double>(total_ - done_) / rate : NAN;
 
+  if (listener_)
+    listener_(ProgressUpdate{stage_, unit_, done_, total_, fraction, rate, elapsed, eta});
+  if (mode_ == ProgressMode::kNone)
+    return;
   if (mode_ == ProgressMode::kJson) {
     const std::string eta_text = std::isfinite(eta) ? fmt::format("{:.2f}", eta) : "null";
     fmt::print(json_stream_,

@@ -60,6 +60,33 @@ track::RouteGeneratorParams generatorParams(const scenario::Scenario& sc) {
   return g;
 }
 
+track::BlockType blockTypeOf(const std::string& name) {
+  for (track::BlockType t :
+       {track::BlockType::kStraight, track::BlockType::kCurve, track::BlockType::kStation,
+        track::BlockType::kTunnel, track::BlockType::kBridge}) {
+    if (track::blockTypeName(t) == name)
+      return t;
+  }
+  throw RuntimeError("route.blocks: unknown block type " + name + " (schema/code mismatch)");
+}
+
+std::vector<track::BlockSpec> blockSpecs(const scenario::Scenario& sc) {
+  std::vector<track::BlockSpec> out;
+  for (const scenario::Json& b : sc.at("route.blocks")) {
+    track::BlockSpec spec;
+    spec.type = blockTypeOf(b["type"].get<std::string>());
+    spec.length_m = b["length_m"].get<double>();
+    spec.radius_m = b["radius_m"].get<double>();
+    spec.left = b["direction"] == "left";
+    spec.transition_m = b["transition_m"].get<double>();
+    const double cant_mm = b["cant_mm"].get<double>();
+    spec.cant_m = cant_mm < 0.0 ? -1.0 : cant_mm * 1e-3;
+    spec.grade = b["grade_permille"].get<double>() * 1e-3;
+    out.push_back(spec);
+  }
+  return out;
+}
+
 track::LayoutParams layoutParams(const scenario::Scenario& sc) {
   track::LayoutParams l;
   l.double_track = sc.get<bool>("layout.double_track");
@@ -143,7 +170,10 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& sc) {
   opt.station_dwell_s = sc.get<double>("route.station_dwell_s");
 
   auto route_of = [&]() {
-    if (sc.get<std::string>("route.source") != "waypoints")
+    const std::string source = sc.get<std::string>("route.source");
+    if (source == "blocks")
+      return track::buildBlockRoute(blockSpecs(sc), opt);
+    if (source != "waypoints")
       return track::generateRoute(generatorParams(sc), opt, sc.seed());
     const GeodeticAnchor anchor({sc.get<double>("geodetic_origin.latitude_deg"),
                                  sc.get<double>("geodetic_origin.longitude_deg"),
@@ -315,6 +345,24 @@ void writePlan(const Plan& plan,
   write("railroad.json", railroadJson(plan));
   write("design_report.json", designReportJson(plan));
   write("trajectory.csv", trajectoryCsv(plan));
+}
+
+scenario::Json blockListJson(const track::Route& route) {
+  scenario::Json list = scenario::Json::array();
+  // Rounded to what a designer would type (0.1 mm, 0.001 permille); lengths to 1 µm so the
+  // rebuilt alignment lands on the same chainages.
+  auto round_to = [](double x, double step) { return std::round(x / step) * step; };
+  for (const track::BlockSpec& b : track::blockSpecs(route)) {
+    const bool curve = b.type == track::BlockType::kCurve;
+    list.push_back({{"type", std::string(track::blockTypeName(b.type))},
+                    {"length_m", round_to(b.length_m, 1e-6)},
+                    {"radius_m", curve ? round_to(b.radius_m, 1e-6) : 1500.0},
+                    {"direction", b.left ? "left" : "right"},
+                    {"transition_m", curve ? round_to(b.transition_m, 1e-6) : -1.0},
+                    {"cant_mm", curve ? round_to(b.cant_m * 1e3, 1e-4) : -1.0},
+                    {"grade_permille", round_to(b.grade * 1e3, 1e-3)}});
+  }
+  return list;
 }
 
 }  // namespace trainsim::sim

@@ -35,8 +35,9 @@ Param special(std::string key, std::string what, double probability, double lo, 
 void addRouteSections(Schema& s) {
   s.add(object(
       "route", "Where the main track comes from and how it is laid out.",
-      {choice("source", "generated", {"generated", "waypoints"},
-              "Random route from route.generator, or a waypoint CSV (route.waypoints_file)"),
+      {choice("source", "generated", {"generated", "waypoints", "blocks"},
+              "Random route from route.generator, a waypoint CSV (route.waypoints_file), or the "
+              "block list route.blocks"),
        scenario::string("waypoints_file", "",
                         "CSV of waypoints (n_m,e_m,d_m or latitude_deg,longitude_deg,height_m; "
                         "optional radius_m, vertical_radius_m, block); relative paths are relative "
@@ -70,7 +71,29 @@ void addRouteSections(Schema& s) {
             number("grade_length_min_m", 600, "m", "Shortest distance between grade changes")
                 .range(10, 1e5),
             number("grade_length_max_m", 2500, "m", "Longest distance between grade changes")
-                .range(10, 1e6)})}));
+                .range(10, 1e6)}),
+       array(
+           "blocks",
+           "The main track block by block, starting east at the origin (route.source = blocks).",
+           object(
+               "", "One block of the main track.",
+               {choice("type", "straight", {"straight", "curve", "station", "tunnel", "bridge"},
+                       "What the block is"),
+                number("length_m", 500, "m",
+                       "Length of a straight-like block; for a curve, of its circular arc alone")
+                    .range(0, 1e6),
+                number("radius_m", 1500, "m", "Curves: radius of the circular arc").range(10, 1e6),
+                choice("direction", "left", {"left", "right"}, "Curves: direction of the turn"),
+                number("transition_m", -1, "m",
+                       "Curves: length of each transition; -1 chooses the design minimum (at "
+                       "least 20 m, in 5 m steps)")
+                    .range(-1, 10000),
+                number("cant_mm", -1, "mm",
+                       "Curves: applied cant; -1 lets the design rules choose it")
+                    .range(-1, 250),
+                number("grade_permille", 0, "permille",
+                       "Grade from the start of this block on (positive climbs)")
+                    .range(-100, 100)}))}));
   s.add(object(
       "design", "Design rules the route is generated to and checked against (design_report.json).",
       {number("design_speed_km_h", 160, "km/h", "Line speed the alignment is designed for")
@@ -145,6 +168,20 @@ void addRouteSections(Schema& s) {
                 .range(1, 1e9)})}));
   s.addCheck([](const scenario::Json& r, std::vector<scenario::Problem>& problems) {
     const auto& route = r["route"];
+    if (route["source"] == "blocks" && route["blocks"].empty())
+      problems.push_back({"route.blocks",
+                          "must list at least one block when route.source is "
+                          "\"blocks\""});
+    for (std::size_t i = 0; i < route["blocks"].size(); ++i) {
+      const auto& b = route["blocks"][i];
+      const std::string at = "route.blocks[" + std::to_string(i) + "]";
+      if (b["type"] == "curve" && b["length_m"].get<double>() <= 0.0 &&
+          b["transition_m"].get<double>() == 0.0)
+        problems.push_back({at + ".length_m", "a curve needs an arc or transitions"});
+      if (b["type"] != "curve" && b["length_m"].get<double>() <= 0.0)
+        problems.push_back({at + ".length_m",
+                            "must be positive for a " + b["type"].get<std::string>() + " block"});
+    }
     if (route["source"] == "waypoints" && route["waypoints_file"].get<std::string>().empty())
       problems.push_back({"route.waypoints_file",
                           "must name a CSV file when route.source is "
@@ -230,13 +267,21 @@ scenario::Scenario loadScenario(const std::string& path, std::optional<std::uint
     input["seed"] = *seed;
   }
   // A relative waypoint file is relative to the scenario file that names it.
-  if (!path.empty() && path != "-" && input.is_object() && input.contains("route") &&
+  const bool from_file = !path.empty() && path != "-";
+  return resolveScenario(std::move(input),
+                         from_file ? std::filesystem::path(path).parent_path().string() : "",
+                         source);
+}
+
+scenario::Scenario resolveScenario(scenario::Json input, const std::string& base_dir,
+                                   const std::string& source) {
+  if (!base_dir.empty() && input.is_object() && input.contains("route") &&
       input["route"].is_object() && input["route"].contains("waypoints_file") &&
       input["route"]["waypoints_file"].is_string()) {
     const std::filesystem::path file = input["route"]["waypoints_file"].get<std::string>();
     if (!file.empty() && file.is_relative())
       input["route"]["waypoints_file"] =
-          (std::filesystem::path(path).parent_path() / file).lexically_normal().string();
+          (std::filesystem::path(base_dir) / file).lexically_normal().string();
   }
   return scenario::Scenario::resolve(input, scenarioSchema(), source);
 }

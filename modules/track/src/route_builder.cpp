@@ -1,5 +1,6 @@
 #include "route_builder.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace trainsim::track::detail {
@@ -91,6 +92,12 @@ DesignedRoute RouteBuilder::finish(VerticalProfile vertical) {
     }
   }
   return out;
+}
+
+double transitionFor(const DesignRules& rules, double v, double radius_m, double cant_m) {
+  const double deficiency = rules.equilibriumCant(v, radius_m) - cant_m;
+  const double length = std::max(20.0, rules.minTransitionLength(v, cant_m, deficiency));
+  return std::ceil(length / 5.0 - 1e-9) * 5.0;
 }
 
 Eigen::Vector2d transitionEnd(double length_m, double radius_m, TransitionShape shape) {

@@ -37,6 +37,10 @@ class RouteBuilder {
   double pending_ = 0.0;  // straight not yet emitted
 };
 
+/// Transition length for a curve of radius R and cant D at speed v: the design-rule minimum,
+/// at least 20 m, rounded up to 5 m.
+double transitionFor(const DesignRules& rules, double v, double radius_m, double cant_m);
+
 /// Local end point (x along the start tangent, y to the left) of a transition from straight to
 /// curvature 1/R over length L.
 Eigen::Vector2d transitionEnd(double length_m, double radius_m, TransitionShape shape);

@@ -15,13 +15,6 @@ double roundUp(double x, double step) {
   return std::ceil(x / step - 1e-9) * step;
 }
 
-// Transition length for a curve of radius R at speed v: the design-rule minimum, at least
-// 20 m, rounded up to 5 m.
-double transitionFor(const DesignRules& rules, double v, double radius_m, double cant_m) {
-  const double deficiency = rules.equilibriumCant(v, radius_m) - cant_m;
-  return roundUp(std::max(20.0, rules.minTransitionLength(v, cant_m, deficiency)), 5.0);
-}
-
 void checkParams(const RouteGeneratorParams& p, const DesignRules& rules) {
   auto fail = [](const std::string& m) { throw ConfigError("route.generator: " + m); };
   if (p.arc_length_min_m > p.arc_length_max_m)
@@ -58,7 +51,8 @@ DesignedRoute generateRoute(const RouteGeneratorParams& params, const RouteOptio
   // Mean straight length that gives the requested share of curves.
   const double r_mid = 0.5 * (r_min + r_max);
   const double typical_curve =
-      0.5 * (arc_lo + arc_hi) + 2.0 * transitionFor(rules, v, r_mid, rules.appliedCant(v, r_mid));
+      0.5 * (arc_lo + arc_hi) +
+      2.0 * detail::transitionFor(rules, v, r_mid, rules.appliedCant(v, r_mid));
   const double share = std::clamp(params.curve_share, 0.0, 0.95);
   const double mean_straight =
       share <= 0.0 ? params.length_m : typical_curve * (1.0 - share) / share;
@@ -111,7 +105,7 @@ DesignedRoute generateRoute(const RouteGeneratorParams& params, const RouteOptio
     const double toward = heading > 0.0 ? -1.0 : 1.0;
     const double direction = rnd.uniform() < 0.7 ? toward : -toward;
     const double cant = rules.appliedCant(v, radius);
-    const double transition = transitionFor(rules, v, radius, cant);
+    const double transition = detail::transitionFor(rules, v, radius, cant);
     const double arc = uniform(arc_lo, arc_hi);
     // Leave room for the closing straight.
     if (builder.chainage() + 2.0 * transition + arc + min_len > params.length_m) {

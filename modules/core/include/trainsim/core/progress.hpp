@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -18,6 +19,18 @@ enum class ProgressMode {
 
 /// Parses "auto", "bar", "json", "none"; throws ConfigError otherwise.
 ProgressMode parseProgressMode(std::string_view text);
+
+/// One progress update, as handed to a listener (the studio's progress bar).
+struct ProgressUpdate {
+  std::string_view stage;
+  std::string_view unit;
+  std::int64_t done = 0;
+  std::int64_t total = 0;
+  double fraction = 0.0;
+  double rate = 0.0;  ///< units per second of new work
+  double elapsed_s = 0.0;
+  double eta_s = 0.0;  ///< NaN while unknown
+};
 
 /// Reports the progress of a sequence of stages, each with a known amount of work.
 /// Updates are rate-limited (at most every 100 ms for the bar, every 500 ms for JSON) except
@@ -44,8 +57,15 @@ class ProgressReporter {
 
   ProgressMode mode() const { return mode_; }
 
+  /// Also hands every shown update (and, in kNone mode, every update at most each 100 ms plus
+  /// the first and last of a stage) to `listener`, on the thread doing the work.
+  void setListener(std::function<void(const ProgressUpdate&)> listener) {
+    listener_ = std::move(listener);
+  }
+
  private:
-  void emit(bool force);
+  // Not "emit": Qt defines that word as a macro, and the studio includes this header.
+  void show(bool force);
 
   using Clock = std::chrono::steady_clock;
   ProgressMode mode_;
@@ -59,6 +79,7 @@ class ProgressReporter {
   Clock::time_point start_;
   Clock::time_point last_emit_;
   bool active_ = false;
+  std::function<void(const ProgressUpdate&)> listener_;
 };
 
 }  // namespace trainsim

@@ -60,6 +60,10 @@ std::string designReportJson(const Plan& plan);
 /// trajectory.csv: one row per sample, `t_ns` first, every column named with its unit.
 std::string trajectoryCsv(const Plan& plan);
 
+/// route.blocks items that lay out `route` again (route.source = "blocks"): the studio's
+/// "edit as blocks" of a generated or imported route. Grades become each block's mean grade.
+scenario::Json blockListJson(const track::Route& route);
+
 /// Writes railroad.json, trajectory.csv and design_report.json through `write(name, bytes)`.
 void writePlan(const Plan& plan,
                const std::function<void(const std::string&, const std::string&)>& write);

@@ -23,4 +23,9 @@ std::string_view defaultScenarioText();
 scenario::Scenario loadScenario(const std::string& path,
                                 std::optional<std::uint64_t> seed_override = std::nullopt);
 
+/// Validates and resolves a scenario document; relative file names in it (route.waypoints_file)
+/// are taken relative to `base_dir` when that is not empty. Throws InvalidScenario.
+scenario::Scenario resolveScenario(scenario::Json input, const std::string& base_dir,
+                                   const std::string& source);
+
 }  // namespace trainsim::sim

@@ -69,4 +69,29 @@ struct WaypointParams {
 DesignedRoute importWaypoints(const std::filesystem::path& csv, const GeodeticAnchor& anchor,
                               const WaypointParams& params, const RouteOptions& options);
 
+/// One block of a route given as an explicit list (route.source = "blocks"): what a designer
+/// edits in the studio's block table.
+struct BlockSpec {
+  BlockType type = BlockType::kStraight;  ///< straight, curve, station, tunnel or bridge
+  /// Straight-like blocks: their length; curves: the length of the circular arc alone.
+  double length_m = 0.0;
+  double radius_m = 0.0;       ///< curves: arc radius (> 0)
+  bool left = true;            ///< curves: turns left (else right)
+  double transition_m = -1.0;  ///< curves: each transition; < 0 chooses the design minimum
+  double cant_m = -1.0;        ///< curves: applied cant magnitude; < 0 lets the rules choose
+  double grade = 0.0;          ///< tan θ of the grade from the start of this block on
+};
+
+/// Lays out a route block by block, starting east at the origin. Grade changes at block starts
+/// are joined by vertical curves of 1.2 × the minimum vertical radius (rounded up to 500 m),
+/// reduced where neighbours leave no room (reported as vertical_fit). Curves take the design
+/// minimum transition (≥ 20 m, in 5 m steps) and the rules' applied cant unless given; rule
+/// breaks are left to checkDesign. Throws ConfigError naming "route.blocks[i]" for blocks that
+/// cannot be laid out at all (no length, no radius, a switch).
+DesignedRoute buildBlockRoute(const std::vector<BlockSpec>& blocks, const RouteOptions& options);
+
+/// The block list that lays out `route` again: types, lengths, radii, transitions and cant are
+/// exact; each block's grade is its mean grade (the vertical curves become the automatic ones).
+std::vector<BlockSpec> blockSpecs(const Route& route);
+
 }  // namespace trainsim::track

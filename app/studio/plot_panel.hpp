@@ -1,0 +1,66 @@
+#pragma once
+
+#include <QColor>
+#include <QPoint>
+#include <QString>
+#include <QVector>
+#include <QWidget>
+#include <vector>
+
+class QCustomPlot;
+class QCPAxisRect;
+class QCPItemStraightLine;
+
+namespace trainsim::studio {
+
+/// One line of a plot.
+struct Series {
+  QString name;
+  QVector<double> x, y;
+  QColor colour;
+  bool dots = false;  ///< markers only (events, sparse fixes), no line
+};
+
+/// One row of a stacked plot: a y axis and its series.
+struct PlotRow {
+  QString y_label;
+  std::vector<Series> series;
+};
+
+/// Stacked plots sharing one x axis (QCustomPlot): drag to pan, wheel to zoom (x on every row
+/// at once; with Ctrl the row's y), double-click to fit. A click puts a cursor at that x on
+/// every row and emits xSelected.
+class PlotPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit PlotPanel(QWidget* parent = nullptr);
+
+  void setRows(const QString& x_label, const std::vector<PlotRow>& rows);
+  void setCursor(double x);
+  void fit();
+
+  /// For tests: the plot and the data of series `index` of row `row`.
+  QCustomPlot* plot() const { return plot_; }
+  QWidget* plotWidget() const;
+  int rowCount() const { return static_cast<int>(rects_.size()); }
+  /// Data of series `index` in row `row` as (x, y) pairs, in order.
+  std::vector<std::pair<double, double>> data(int row, int index) const;
+  QString seriesName(int row, int index) const;
+  /// Where (x, middle of the y range) of row `row` is, in plot() widget pixels.
+  QPoint pixelOf(int row, double x) const;
+
+ signals:
+  void xSelected(double x);
+
+ private:
+  void syncX(const QCPAxisRect* from);
+
+  QCustomPlot* plot_;
+  std::vector<QCPAxisRect*> rects_;
+  std::vector<QCPItemStraightLine*> cursors_;
+  bool syncing_ = false;
+  QPoint press_;
+};
+
+}  // namespace trainsim::studio
