@@ -36,10 +36,11 @@ int truthRow(const CsvTable& truth, double t_ns) {
   return std::clamp(static_cast<int>(std::llround(t_ns / period)), 0, truth.rows - 1);
 }
 
-// Body-to-world rotation from trajectory.csv's ZYX yaw, pitch, roll.
+// Body-to-world rotation from trajectory.csv's yaw, pitch, roll: R = Rz(yaw) Ry(−pitch)
+// Rx(roll) (pitch positive nose up; the body's y axis points left).
 Eigen::Matrix3d attitude(double yaw, double pitch, double roll) {
   return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
       .toRotationMatrix();
 }

@@ -15,6 +15,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "trainsim/sim/schema.hpp"
+
 namespace trainsim::studio {
 namespace {
 
@@ -108,10 +110,13 @@ QString SchemaForm::errorAt(const QString& path) const {
 void SchemaForm::reveal(const QString& path) {
   std::string p = path.toStdString();
   const std::string section = p.substr(0, p.find_first_of(".["));
+  int tab = -1;
   for (int i = 0; i < count(); ++i) {
-    if (tabText(i).toStdString() == section || (i == 0 && tabText(i) == "general"))
-      setCurrentIndex(i);
+    if (tabText(i).toStdString() == section || (tab < 0 && tabText(i) == "general"))
+      tab = i;  // a top-level parameter lives on "general"
   }
+  if (tab >= 0)
+    setCurrentIndex(tab);
   if (QWidget* e = editor(path)) {
     for (QWidget* w = e; w; w = w->parentWidget()) {
       if (auto* area = qobject_cast<QScrollArea*>(w)) {
@@ -202,17 +207,20 @@ QWidget* SchemaForm::buildArray(const Param& p, const std::string& path) {
   add->setObjectName(QString::fromStdString(path + "/add"));
   add->setToolTip(QString::fromStdString(p.description));
   outer->addWidget(add);
-  connect(add, &QPushButton::clicked, this, [this, &p, path] {
-    Json list = doc_->value(path);
-    if (!list.is_array())
-      list = Json::array();
-    // A new item repeats the last one (a copy is the usual next entry), else the defaults.
-    list.push_back(list.empty() ? scenario::Json(p.item->default_value) : list.back());
-    if (list.back().is_null() && p.item->type == ParamType::kObject) {
-      Json item = Json::object();
-      for (const Param& f : p.item->fields)
-        item[f.key] = f.default_value;
-      list.back() = item;
+  connect(add, &QPushButton::clicked, this, [this, path] {
+    Json doc = doc_->json();
+    const auto ptr = scenario::pointerFromPath(path);
+    if (!doc[ptr].is_array())
+      doc[ptr] = Json::array();
+    Json list = doc[ptr];
+    if (!list.empty()) {
+      list.push_back(list.back());  // a copy of the last item is the usual next entry
+    } else {
+      // An empty item resolved by the schema: every field at its default.
+      doc[ptr].push_back(Json::object());
+      const Json resolved = sim::scenarioSchema().resolve(doc).resolved;
+      list.push_back(resolved.contains(ptr) && !resolved.at(ptr).empty() ? resolved.at(ptr).back()
+                                                                         : Json::object());
     }
     doc_->setValue(path, list, QString::fromStdString("Add item to " + path));
   });

@@ -21,6 +21,7 @@
 #include <QTabWidget>
 #include <QTableWidget>
 #include <QTemporaryDir>
+#include <QToolButton>
 #include <QtTest>
 #include <fstream>
 #include <sstream>
@@ -43,6 +44,24 @@ QAction* findAction(QWidget* window, const QString& text) {
       return a;
   }
   return nullptr;
+}
+
+// Every leaf parameter of the schema, as the JSON paths the document gives them (array items
+// as many times as the document has items).
+void leafPaths(const trainsim::scenario::Param& p, const std::string& path,
+               const trainsim::scenario::Json& value, std::vector<std::string>& out) {
+  using trainsim::scenario::ParamType;
+  if (p.type == ParamType::kObject) {
+    for (const auto& f : p.fields) {
+      const std::string child = path.empty() ? f.key : path + "." + f.key;
+      leafPaths(f, child, value.contains(f.key) ? value[f.key] : trainsim::scenario::Json(), out);
+    }
+  } else if (p.type == ParamType::kArray) {
+    for (std::size_t i = 0; value.is_array() && i < value.size(); ++i)
+      leafPaths(*p.item, path + "[" + std::to_string(i) + "]", value[i], out);
+  } else {
+    out.push_back(path);
+  }
 }
 
 // Types `text` into a generated field and commits it as a user does (Return).
