@@ -192,6 +192,25 @@ class StudioGuiTest : public QObject {
     QVERIFY(shown.wait(60000));
     QCOMPARE(std::abs(w.plan()->plan->route.route.blocks[static_cast<std::size_t>(curve)].radius_m),
              new_radius);
+
+    // A radius far below the design minimum: the report's violations appear in both views
+    // and in the report table, on that curve.
+    shown.clear();
+    typeInto(w, field, "300");
+    QVERIFY(shown.wait(60000));
+    const auto& violations = w.plan()->plan->violations;
+    QVERIFY(!violations.empty());
+    QCOMPARE(w.view3d()->violationCount(), static_cast<int>(violations.size()));
+    QCOMPARE(w.view2d()->violationCount(), static_cast<int>(violations.size()));
+    bool min_radius = false;
+    for (int r = 0; r < w.report()->rowCount(); ++r)
+      min_radius = min_radius || (w.report()->item(r, 0)->text() == "min_radius" &&
+                                  w.report()->item(r, 2)->text() == QString::number(curve));
+    QVERIFY(min_radius);
+    shown.clear();
+    w.document()->undoStack()->undo();
+    QVERIFY(shown.wait(60000));
+    QVERIFY(w.plan()->plan->violations.size() < violations.size() || violations.empty());
   }
 
   void anOutOfRangeValueIsMarkedAtItsField() {
