@@ -117,10 +117,17 @@ MainWindow::~MainWindow() = default;
 void MainWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu("&File");
   file->addAction(
-      "&New", this, [this] { doc_.newDefault(); }, QKeySequence::New);
+      "&New", this,
+      [this] {
+        if (maybeSave())
+          doc_.newDefault();
+      },
+      QKeySequence::New);
   file->addAction(
       "&Open scenario…", this,
       [this] {
+        if (!maybeSave())
+          return;
         const QString f = QFileDialog::getOpenFileName(this, "Open scenario", doc_.baseDir(),
                                                        "Scenario (*.json);;All files (*)");
         if (!f.isEmpty())
@@ -383,15 +390,19 @@ void MainWindow::selectTime(double t_s) {
       QString("t = %1 s, chainage %2 m").arg(pose.t_s, 0, 'f', 2).arg(pose.chainage_m, 0, 'f', 1));
 }
 
+bool MainWindow::maybeSave() {
+  if (!doc_.isModified())
+    return true;
+  const auto answer =
+      QMessageBox::question(this, "Unsaved changes", "Save the scenario first?",
+                            QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
+  return answer == QMessageBox::Discard || (answer == QMessageBox::Save && save());
+}
+
 void MainWindow::closeEvent(QCloseEvent* event) {
-  if (doc_.isModified()) {
-    const auto answer =
-        QMessageBox::question(this, "Unsaved changes", "Save the scenario before closing?",
-                              QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
-    if (answer == QMessageBox::Cancel || (answer == QMessageBox::Save && !save())) {
-      event->ignore();
-      return;
-    }
+  if (!maybeSave()) {
+    event->ignore();
+    return;
   }
   if (runner_.running())
     runner_.cancel();

@@ -68,6 +68,8 @@ class MainWindow : public QMainWindow {
   void showReport();
   void showMessage(const QString& title, const QString& text, const QString& details);
   void selectTime(double t_s);
+  /// Offers to save unsaved edits; false when the user cancels.
+  bool maybeSave();
   bool saveAs();
   bool save();
   void updateTitle();
