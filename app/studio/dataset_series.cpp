@@ -63,8 +63,9 @@ CsvTable readCsv(const QString& path) {
 DatasetFiles findDatasetFiles(const QString& root) {
   DatasetFiles out;
   out.root = root;
-  const std::string text = scenario::readScenarioText((root + "/scenario.json").toStdString());
-  const scenario::Json sc = scenario::parseJson(text, (root + "/scenario.json").toStdString());
+  const std::string scenario_file = (root + "/scenario.json").toStdString();
+  out.scenario = scenario::parseJson(scenario::readScenarioText(scenario_file), scenario_file);
+  const scenario::Json& sc = out.scenario;
   const QString seq = root + "/sequences/00/";
   auto collect = [&](const char* kind, std::map<std::string, QString>& into) {
     if (!sc.contains("sensors") || !sc["sensors"].contains(kind))

@@ -5,6 +5,8 @@
 #include <map>
 #include <string>
 
+#include "trainsim/scenario/param.hpp"
+
 namespace trainsim::studio {
 
 /// A CSV file of a dataset read by column: header names to values (empty cells are NaN).
@@ -22,10 +24,11 @@ CsvTable readCsv(const QString& path);
 /// The sensor files of a generated dataset (OUT/sequences/00), by sensor kind and name.
 struct DatasetFiles {
   QString root;
+  scenario::Json scenario;                                        ///< OUT/scenario.json
   std::map<std::string, QString> imus, gnss, odometers, balises;  ///< name → csv path
 };
 
-/// Finds the sensor files the scenario in OUT/scenario.json declares.
+/// Reads OUT/scenario.json and finds the sensor files it declares.
 DatasetFiles findDatasetFiles(const QString& root);
 
 }  // namespace trainsim::studio

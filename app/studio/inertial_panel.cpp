@@ -95,11 +95,10 @@ void InertialPanel::setPlan(std::shared_ptr<const PlanSnapshot> plan) {
 
 void InertialPanel::setDataset(const QString& root) {
   DatasetFiles files = findDatasetFiles(root);
-  CsvTable truth = readCsv(root + "/trajectory.csv");
-  dataset_scenario_ = scenario::parseJson(
-      scenario::readScenarioText((root + "/scenario.json").toStdString()), "scenario.json");
+  std::map<QString, CsvTable> tables;
+  tables.emplace("trajectory.csv", readCsv(root + "/trajectory.csv"));  // the truth
   dataset_ = std::move(files);
-  truth_ = std::move(truth);
+  tables_ = std::move(tables);
   refreshViews();
   draw();
 }
@@ -196,10 +195,17 @@ void InertialPanel::draw() {
   plots_->setRows(x_label, rows);
 }
 
+const CsvTable& InertialPanel::table(const QString& path) const {
+  auto it = tables_.find(path);
+  if (it == tables_.end())
+    it = tables_.emplace(path, readCsv(path)).first;
+  return it->second;
+}
+
 std::vector<PlotRow> InertialPanel::imuRows(const std::string& name, bool gyro) const {
   const QString file = dataset_->imus.at(name);
-  const CsvTable m = readCsv(file);
-  const CsvTable t = readCsv(QString(file).replace(".csv", "_truth.csv"));
+  const CsvTable& m = table(file);
+  const CsvTable& t = table(QString(file).replace(".csv", "_truth.csv"));
   const QVector<double> tm = seconds(m.at("t_ns")), tt = seconds(t.at("t_ns"));
   std::vector<PlotRow> rows;
   for (const char axis : {'x', 'y', 'z'}) {
@@ -215,8 +221,8 @@ std::vector<PlotRow> InertialPanel::imuRows(const std::string& name, bool gyro) 
 }
 
 std::vector<PlotRow> InertialPanel::gnssRows(const std::string& name) const {
-  const CsvTable g = readCsv(dataset_->gnss.at(name));
-  const scenario::Json& sc = dataset_scenario_;
+  const CsvTable& g = table(dataset_->gnss.at(name));
+  const scenario::Json& sc = dataset_->scenario;
   const scenario::Json* cfg = sensorConfig(sc, "gnss_receivers", name);
   const Eigen::Vector3d antenna = cfg ? Eigen::Vector3d((*cfg)["antenna"]["x_m"].get<double>(),
                                                         (*cfg)["antenna"]["y_m"].get<double>(),
@@ -225,7 +231,7 @@ std::vector<PlotRow> InertialPanel::gnssRows(const std::string& name) const {
   const GeodeticAnchor anchor({sc["geodetic_origin"]["latitude_deg"].get<double>(),
                                sc["geodetic_origin"]["longitude_deg"].get<double>(),
                                sc["geodetic_origin"]["height_m"].get<double>()});
-  const CsvTable& tr = *truth_;
+  const CsvTable& tr = tables_.at("trajectory.csv");
   QVector<double> t, de, dn, du, fix;
   for (int i = 0; i < g.rows; ++i) {
     const double t_ns = g.at("t_ns")[i];
@@ -254,8 +260,8 @@ std::vector<PlotRow> InertialPanel::gnssRows(const std::string& name) const {
 }
 
 std::vector<PlotRow> InertialPanel::odometerRows(const std::string& name) const {
-  const CsvTable o = readCsv(dataset_->odometers.at(name));
-  const CsvTable& tr = *truth_;
+  const CsvTable& o = table(dataset_->odometers.at(name));
+  const CsvTable& tr = tables_.at("trajectory.csv");
   const QVector<double> t = seconds(o.at("t_ns"));
   QVector<double> distance, speed;
   for (int i = 0; i < o.rows; ++i) {
@@ -277,9 +283,9 @@ std::vector<PlotRow> InertialPanel::odometerRows(const std::string& name) const 
 }
 
 std::vector<PlotRow> InertialPanel::baliseRows(const std::string& name) const {
-  const CsvTable b = readCsv(dataset_->balises.at(name));
-  const CsvTable& tr = *truth_;
-  const scenario::Json* cfg = sensorConfig(dataset_scenario_, "balise_readers", name);
+  const CsvTable& b = table(dataset_->balises.at(name));
+  const CsvTable& tr = tables_.at("trajectory.csv");
+  const scenario::Json* cfg = sensorConfig(dataset_->scenario, "balise_readers", name);
   const double offset = cfg ? (*cfg)["antenna_offset_m"].get<double>() : 0.0;
   QVector<double> t_truth = seconds(tr.at("t_ns")), antenna = tr.at("distance_m");
   for (double& d : antenna)

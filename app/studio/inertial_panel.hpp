@@ -45,14 +45,15 @@ class InertialPanel : public QWidget {
   std::vector<PlotRow> gnssRows(const std::string& name) const;
   std::vector<PlotRow> odometerRows(const std::string& name) const;
   std::vector<PlotRow> baliseRows(const std::string& name) const;
+  /// A dataset CSV, read once per dataset (switching views does not read files again).
+  const CsvTable& table(const QString& path) const;
 
   QComboBox* view_;
   QLabel* note_;
   PlotPanel* plots_;
   std::shared_ptr<const PlanSnapshot> plan_;
   std::optional<DatasetFiles> dataset_;
-  std::optional<CsvTable> truth_;  ///< the dataset's trajectory.csv
-  scenario::Json dataset_scenario_;
+  mutable std::map<QString, CsvTable> tables_;
 };
 
 }  // namespace trainsim::studio

@@ -231,7 +231,7 @@ void MainWindow::updateTitle() {
 }
 
 void MainWindow::onDocumentChanged() {
-  const std::optional<scenario::Scenario> sc = doc_.resolved();
+  const std::optional<scenario::Scenario>& sc = doc_.resolved();
   showReport();
   if (!sc) {
     status_->setText(QString("%1 invalid value(s): the plan shows the last valid scenario")
@@ -339,7 +339,7 @@ bool MainWindow::saveAs() {
 }
 
 bool MainWindow::startRun(const QString& out, bool force) {
-  const std::optional<scenario::Scenario> sc = doc_.resolved();
+  const std::optional<scenario::Scenario>& sc = doc_.resolved();
   if (!sc) {
     showMessage("Cannot generate", "Fix the marked values first.",
                 QString::fromStdString(doc_.problems().front().text()));

@@ -50,7 +50,6 @@ class MainWindow : public QMainWindow {
   QTableWidget* report() const { return report_; }
   QProgressBar* progressBar() const { return progress_; }
   RunController* runner() { return &runner_; }
-  PlanService* planner() { return &planner_; }
   std::shared_ptr<const PlanSnapshot> plan() const { return plan_; }
 
  signals:

@@ -81,8 +81,6 @@ class PlanService : public QObject {
   ~PlanService() override;
 
   void request(const scenario::Scenario& scenario);
-  bool busy() const { return running_ || pending_.has_value() || debounce_.isActive(); }
-  std::uint64_t generation() const { return generation_; }
 
  signals:
   void started();

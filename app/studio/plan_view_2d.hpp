@@ -22,7 +22,6 @@ class PlanView2D : public QWidget {
   void markTrain(const TrainPose& pose);
   void fit();
 
-  QCustomPlot* plot() const { return plot_; }
   /// Number of violation markers drawn (for tests).
   int violationCount() const;
 

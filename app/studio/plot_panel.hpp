@@ -40,14 +40,13 @@ class PlotPanel : public QWidget {
   void setCursor(double x);
   void fit();
 
-  /// For tests: the plot and the data of series `index` of row `row`.
-  QCustomPlot* plot() const { return plot_; }
+  /// For tests: the plot widget (to click on).
   QWidget* plotWidget() const;
   int rowCount() const { return static_cast<int>(rects_.size()); }
   /// Data of series `index` in row `row` as (x, y) pairs, in order.
   std::vector<std::pair<double, double>> data(int row, int index) const;
   QString seriesName(int row, int index) const;
-  /// Where (x, middle of the y range) of row `row` is, in plot() widget pixels.
+  /// Where (x, middle of the y range) of row `row` is, in plotWidget() pixels.
   QPoint pixelOf(int row, double x) const;
 
  signals:

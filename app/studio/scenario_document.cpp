@@ -92,6 +92,7 @@ void ScenarioDocument::save(const QString& path) {
   io::writeFileAtomic(path.toStdString(), doc_.dump(2) + "\n");
   path_ = QFileInfo(path).absoluteFilePath();
   undo_.setClean();
+  validate();  // relative waypoint files now resolve against the new folder
   emit filePathChanged(path_);
 }
 
@@ -123,16 +124,17 @@ void ScenarioDocument::apply(const std::string& path, const scenario::Json& v) {
 }
 
 void ScenarioDocument::validate() {
-  problems_ = sim::scenarioSchema().resolve(doc_).problems;
+  // One resolution per edit gives both the problems and the scenario to plan. As the CLI
+  // does, a relative waypoint file is relative to the scenario file.
+  problems_.clear();
+  resolved_.reset();
+  try {
+    resolved_ = sim::resolveScenario(doc_, baseDir().toStdString(),
+                                     path_.isEmpty() ? "<studio>" : path_.toStdString());
+  } catch (const scenario::InvalidScenario& e) {
+    problems_ = e.problems();
+  }
   emit problemsChanged();
-}
-
-std::optional<scenario::Scenario> ScenarioDocument::resolved() const {
-  if (!problems_.empty())
-    return std::nullopt;
-  // As the CLI does: a relative waypoint file is relative to the scenario file.
-  return sim::resolveScenario(doc_, baseDir().toStdString(),
-                              path_.isEmpty() ? "<studio>" : path_.toStdString());
 }
 
 }  // namespace trainsim::studio

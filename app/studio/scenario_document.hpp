@@ -48,7 +48,7 @@ class ScenarioDocument : public QObject {
 
   const std::vector<scenario::Problem>& problems() const { return problems_; }
   /// The resolved scenario (relative files made absolute) when there are no problems.
-  std::optional<scenario::Scenario> resolved() const;
+  const std::optional<scenario::Scenario>& resolved() const { return resolved_; }
 
   /// Applies a value without recording it (the undo commands call this).
   void apply(const std::string& path, const scenario::Json& value);
@@ -66,6 +66,7 @@ class ScenarioDocument : public QObject {
   QString path_;
   QUndoStack undo_;
   std::vector<scenario::Problem> problems_;
+  std::optional<scenario::Scenario> resolved_;
 };
 
 }  // namespace trainsim::studio
