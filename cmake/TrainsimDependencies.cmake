@@ -7,6 +7,8 @@ find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(Threads REQUIRED)
+# oneTBB: the run loop's worker arena (sim) and, later, the LiDAR's column split.
+find_package(TBB REQUIRED)
 # GeographicLib's Find module lives outside CMake's default search path on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/share/cmake/geographiclib)
 find_package(GeographicLib 2.1 REQUIRED)
@@ -18,9 +20,6 @@ target_include_directories(Random123::Random123 SYSTEM INTERFACE ${RANDOM123_INC
 
 if(TRAINSIM_BUILD_TESTS)
   find_package(GTest REQUIRED)
-endif()
-if(TRAINSIM_BUILD_BENCH)
-  find_package(benchmark REQUIRED)
 endif()
 
 # The studio's Qt 5, VTK and QCustomPlot, found here so the GUI tests see the same targets.

@@ -82,6 +82,9 @@ void runGenerate(const GenerateArgs& args) {
   for (const auto& o : report.outputs) {
     logInfo(fmt::format("sensor {} ({}): {} readings", o.name, o.kind, o.readings));
   }
+  if (report.threads > 0)
+    logInfo(fmt::format("run loop: {} worker threads, {} of them rendered readings", report.threads,
+                        report.render_threads));
   for (const auto& stage : report.not_run) {
     logWarn("not simulated yet: " + stage);
   }

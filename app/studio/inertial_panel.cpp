@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "trainsim/core/frames.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/scenario/scenario.hpp"
+#include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::studio {
 namespace {
@@ -34,15 +36,6 @@ int truthRow(const CsvTable& truth, double t_ns) {
   const QVector<double>& t = truth.at("t_ns");
   const double period = t.size() > 1 ? t[1] - t[0] : 1.0;
   return std::clamp(static_cast<int>(std::llround(t_ns / period)), 0, truth.rows - 1);
-}
-
-// Body-to-world rotation from trajectory.csv's yaw, pitch, roll: R = Rz(yaw) Ry(−pitch)
-// Rx(roll) (pitch positive nose up; the body's y axis points left).
-Eigen::Matrix3d attitude(double yaw, double pitch, double roll) {
-  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
 }
 
 const scenario::Json* sensorConfig(const scenario::Json& sc, const char* kind,
@@ -224,10 +217,7 @@ std::vector<PlotRow> InertialPanel::gnssRows(const std::string& name) const {
   const CsvTable& g = table(dataset_->gnss.at(name));
   const scenario::Json& sc = dataset_->scenario;
   const scenario::Json* cfg = sensorConfig(sc, "gnss_receivers", name);
-  const Eigen::Vector3d antenna = cfg ? Eigen::Vector3d((*cfg)["antenna"]["x_m"].get<double>(),
-                                                        (*cfg)["antenna"]["y_m"].get<double>(),
-                                                        (*cfg)["antenna"]["z_m"].get<double>())
-                                      : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d antenna = cfg ? sim::readMount(*cfg).position_m : Eigen::Vector3d::Zero();
   const GeodeticAnchor anchor({sc["geodetic_origin"]["latitude_deg"].get<double>(),
                                sc["geodetic_origin"]["longitude_deg"].get<double>(),
                                sc["geodetic_origin"]["height_m"].get<double>()});
@@ -286,7 +276,8 @@ std::vector<PlotRow> InertialPanel::baliseRows(const std::string& name) const {
   const CsvTable& b = table(dataset_->balises.at(name));
   const CsvTable& tr = tables_.at("trajectory.csv");
   const scenario::Json* cfg = sensorConfig(dataset_->scenario, "balise_readers", name);
-  const double offset = cfg ? (*cfg)["antenna_offset_m"].get<double>() : 0.0;
+  const double offset =
+      cfg ? sim::aheadOfFrontPivot(dataset_->scenario, sim::readMount(*cfg)) : 0.0;
   QVector<double> t_truth = seconds(tr.at("t_ns")), antenna = tr.at("distance_m");
   for (double& d : antenna)
     d += offset;

@@ -5,6 +5,7 @@
 // CSV, random draws keyed by sample index, and state carried across checkpoints).
 
 #include <atomic>
+#include <memory>
 #include <string>
 
 #include "trainsim/core/random.hpp"
@@ -21,7 +22,7 @@ class StraightTrajectory final : public sim::Trajectory {
       : ts_(sample_period), n_(samples), v_(speed_m_s), heading_(heading_rad) {}
   TimeNs samplePeriod() const override { return ts_; }
   std::int64_t sampleCount() const override { return n_; }
-  sim::TrajectorySample sample(std::int64_t k) const override;
+  sim::TrajectorySample at(TimeNs t) const override;
 
  private:
   TimeNs ts_;
@@ -33,18 +34,29 @@ class StraightTrajectory final : public sim::Trajectory {
 /// Writes, at each reading, `<name>/NNNNNN.bin` (payload_bytes of counter-based noise keyed by
 /// the sample index) and one line of `<name>.csv` with a random walk whose value is carried in
 /// state(). `delay_ms` slows it down so that a test can kill the process part-way.
-class NoiseSensor final : public sim::Sensor {
+/// The payload is rendered (in parallel), the walk and the files are committed in order.
+struct NoiseReading {
+  TimeNs t_ns = 0;
+  double speed_m_s = 0.0;
+  std::string payload;
+  double step = 0.0;
+};
+
+class NoiseSensor final : public sim::SensorOf<NoiseReading> {
  public:
-  NoiseSensor(std::string name, TimeNs period, std::uint64_t seed, std::size_t payload_bytes,
-              int delay_ms = 0);
+  NoiseSensor(const sim::Trajectory& trajectory, std::string name, TimeNs period,
+              std::uint64_t seed, std::size_t payload_bytes, int delay_ms = 0);
   std::string name() const override { return name_; }
   std::string kind() const override { return "test_noise"; }
   TimeNs period() const override { return period_; }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
-  void capture(std::int64_t k, const sim::TrajectorySample& sample) override;
   nlohmann::json state() const override;
 
  private:
+  NoiseReading read(std::int64_t k) const override;
+  void write(std::int64_t k, NoiseReading& reading) override;
+
+  const sim::Trajectory& trajectory_;
   std::string name_;
   TimeNs period_;
   RandomStream stream_;
@@ -54,6 +66,37 @@ class NoiseSensor final : public sim::Sensor {
   io::AppendFile* csv_ = nullptr;
   double walk_ = 0.0;
   std::int64_t readings_ = 0;
+};
+
+/// A synthetic heavy frame sensor: each render() does `work` rounds of counter-based
+/// arithmetic (deterministic, about 0.1 µs a round) and records how many renders ran at once;
+/// commit() writes one line of <name>.csv with a digest of the result. Stands in for a LiDAR or
+/// camera in the run loop's thread test and benchmark.
+class BusySensor final : public sim::SensorOf<std::uint64_t> {
+ public:
+  /// Counts render() calls running at once; shared so it outlives the run that owns the sensor.
+  struct Gauge {
+    std::atomic<int> running{0};
+    std::atomic<int> peak{0};  ///< the largest number of render() calls running at once
+  };
+
+  BusySensor(std::string name, TimeNs period, std::uint64_t seed, std::int64_t work,
+             std::shared_ptr<Gauge> gauge = std::make_shared<Gauge>());
+  std::string name() const override { return name_; }
+  std::string kind() const override { return "test_busy"; }
+  TimeNs period() const override { return period_; }
+  void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
+
+ private:
+  std::uint64_t read(std::int64_t k) const override;
+  void write(std::int64_t k, std::uint64_t& digest) override;
+
+  std::string name_;
+  TimeNs period_;
+  RandomStream stream_;
+  std::int64_t work_;
+  std::shared_ptr<Gauge> gauge_;
+  io::AppendFile* csv_ = nullptr;
 };
 
 }  // namespace trainsim::testing

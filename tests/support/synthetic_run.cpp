@@ -32,11 +32,11 @@ int main(int argc, char** argv) {
     const auto ts = scenario.get<trainsim::TimeNs>("trajectory.sample_period_ns");
     const trainsim::testing::StraightTrajectory trajectory(ts, samples, 20.0, 0.3);
     std::vector<std::unique_ptr<trainsim::sim::Sensor>> sensors;
-    sensors.push_back(
-        std::make_unique<trainsim::testing::NoiseSensor>("noise_fast", ts, scenario.seed(), 64, 0));
+    sensors.push_back(std::make_unique<trainsim::testing::NoiseSensor>(trajectory, "noise_fast", ts,
+                                                                       scenario.seed(), 64, 0));
     sensors.push_back(std::make_unique<trainsim::testing::NoiseSensor>(
-        "noise_frames", scenario.get<trainsim::TimeNs>("dataset.frame_period_ns"), scenario.seed(),
-        payload, delay_ms));
+        trajectory, "noise_frames", scenario.get<trainsim::TimeNs>("dataset.frame_period_ns"),
+        scenario.seed(), payload, delay_ms));
     trainsim::sim::GenerateOptions options;
     options.out = out;
     options.policy = {force, resume};

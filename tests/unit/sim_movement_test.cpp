@@ -19,21 +19,24 @@ namespace trainsim::sim {
 namespace {
 namespace fs = std::filesystem;
 
-class Recorder final : public Sensor {
+class Recorder final : public SensorOf<TimeNs> {
  public:
-  Recorder(std::string name, TimeNs period) : name_(std::move(name)), period_(period) {}
+  Recorder(const Trajectory& trajectory, std::string name, TimeNs period)
+      : trajectory_(trajectory), name_(std::move(name)), period_(period) {}
   std::string name() const override { return name_; }
   std::string kind() const override { return "recorder"; }
   TimeNs period() const override { return period_; }
   void begin(io::DatasetWriter&, const nlohmann::json&) override {}
-  void capture(std::int64_t k, const TrajectorySample& s) override {
-    samples.push_back(k);
-    times.push_back(s.t_ns);
-  }
   std::vector<std::int64_t> samples;
   std::vector<TimeNs> times;
 
  private:
+  TimeNs read(std::int64_t k) const override { return trajectory_.sample(k).t_ns; }
+  void write(std::int64_t k, TimeNs& t) override {
+    samples.push_back(k);
+    times.push_back(t);
+  }
+  const Trajectory& trajectory_;
   std::string name_;
   TimeNs period_;
 };
@@ -48,11 +51,11 @@ TEST(Movement, EachSensorFiresAtMultiplesOfItsPeriodOnTheSampleClock) {
   constexpr TimeNs ts = 10'000'000;
   const testing::StraightTrajectory traj(ts, 25, 10.0);
   std::vector<std::unique_ptr<Sensor>> sensors;
-  sensors.push_back(std::make_unique<Recorder>("every", ts));
-  sensors.push_back(std::make_unique<Recorder>("third", 3 * ts));
+  sensors.push_back(std::make_unique<Recorder>(traj, "every", ts));
+  sensors.push_back(std::make_unique<Recorder>(traj, "third", 3 * ts));
   const fs::path out = freshDir("fires");
   io::DatasetWriter writer(out, "00", {"h", 1}, {});
-  const auto readings = runMovement(traj, sensors, writer, {});
+  const auto readings = runMovement(traj, sensors, writer, {}).readings;
   const auto& every = static_cast<Recorder&>(*sensors[0]);
   const auto& third = static_cast<Recorder&>(*sensors[1]);
   EXPECT_EQ(every.samples.size(), 25u);
@@ -67,7 +70,7 @@ TEST(Movement, EachSensorFiresAtMultiplesOfItsPeriodOnTheSampleClock) {
 TEST(Movement, RejectsPeriodsThatAreNotMultiplesOfTs) {
   const testing::StraightTrajectory traj(10, 5, 1.0);
   std::vector<std::unique_ptr<Sensor>> sensors;
-  sensors.push_back(std::make_unique<Recorder>("odd", 15));
+  sensors.push_back(std::make_unique<Recorder>(traj, "odd", 15));
   const fs::path out = freshDir("odd");
   io::DatasetWriter writer(out, "00", {"h", 1}, {});
   EXPECT_THROW(runMovement(traj, sensors, writer, {}), RuntimeError);
@@ -79,14 +82,6 @@ TEST(Movement, ReadingsBeforeCountsFiringSamples) {
   EXPECT_EQ(readingsBefore(1, 10, 30), 1);
   EXPECT_EQ(readingsBefore(3, 10, 30), 1);
   EXPECT_EQ(readingsBefore(4, 10, 30), 2);
-}
-
-TEST(FrameClock, CameraAxesFollowKitti) {
-  const Eigen::Matrix3d r = FrameClock::rotationBodyFromCamera();
-  EXPECT_DOUBLE_EQ(r.determinant(), 1.0);
-  EXPECT_EQ(r * Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX());   // forward
-  EXPECT_EQ(r * Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitY());  // right
-  EXPECT_EQ(r * Eigen::Vector3d::UnitY(), -Eigen::Vector3d::UnitZ());  // down
 }
 
 TEST(FrameClock, WritesExactTimesAndPosesRelativeToFrameZero) {
@@ -136,10 +131,13 @@ std::string snapshot(const fs::path& root) {
   return s.str();
 }
 
-std::vector<std::unique_ptr<Sensor>> testSensors(const scenario::Scenario& sc) {
+std::vector<std::unique_ptr<Sensor>> testSensors(const scenario::Scenario& sc,
+                                                 const Trajectory& traj) {
   std::vector<std::unique_ptr<Sensor>> sensors;
-  sensors.push_back(std::make_unique<testing::NoiseSensor>("fast", 10'000'000, sc.seed(), 64));
-  sensors.push_back(std::make_unique<testing::NoiseSensor>("slow", 100'000'000, sc.seed(), 999));
+  sensors.push_back(
+      std::make_unique<testing::NoiseSensor>(traj, "fast", 10'000'000, sc.seed(), 64));
+  sensors.push_back(
+      std::make_unique<testing::NoiseSensor>(traj, "slow", 100'000'000, sc.seed(), 999));
   return sensors;
 }
 
@@ -150,36 +148,37 @@ TEST(RunDataset, CancelledThenResumedRunIsByteIdenticalToAnUninterruptedOne) {
   const fs::path b = freshDir("resume-b");
   GenerateOptions opts;
   opts.out = a;
-  const GenerateReport full = runDataset(sc, &traj, testSensors(sc), opts);
+  const GenerateReport full = runDataset(sc, &traj, testSensors(sc, traj), opts);
   EXPECT_EQ(full.outputs.size(), 3u);
   EXPECT_EQ(full.outputs[0].readings, 16);  // frames 0..15 at 100 ms over 1.57 s
 
   // A sensor that requests cancellation part-way through the run.
-  class Canceller final : public Sensor {
+  class Canceller final : public SensorOf<int> {
    public:
     explicit Canceller(std::atomic<bool>& flag) : flag_(flag) {}
     std::string name() const override { return "canceller"; }
     std::string kind() const override { return "test"; }
     TimeNs period() const override { return 10'000'000; }
     void begin(io::DatasetWriter&, const nlohmann::json&) override {}
-    void capture(std::int64_t k, const TrajectorySample&) override {
+
+   private:
+    int read(std::int64_t) const override { return 0; }
+    void write(std::int64_t k, int&) override {
       if (k == 73)
         flag_ = true;
     }
-
-   private:
     std::atomic<bool>& flag_;
   };
   std::atomic<bool> cancel{false};
   opts.out = b;
   opts.cancel = &cancel;
-  auto sensors = testSensors(sc);
+  auto sensors = testSensors(sc, traj);
   sensors.push_back(std::make_unique<Canceller>(cancel));
   EXPECT_THROW(runDataset(sc, &traj, std::move(sensors), opts), Cancelled);
   EXPECT_FALSE(fs::exists(b / "manifest.json"));
   cancel = false;
   opts.policy.resume = true;
-  runDataset(sc, &traj, testSensors(sc), opts);
+  runDataset(sc, &traj, testSensors(sc, traj), opts);
   EXPECT_EQ(snapshot(a), snapshot(b));
   fs::remove_all(a);
   fs::remove_all(b);

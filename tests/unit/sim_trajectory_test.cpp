@@ -9,6 +9,11 @@
 // with T²·max|est x''''| (a step Δ in a gives an error Δ/2 and an estimate Δ/T²).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <sstream>
+
+#include "trainsim/core/frames.hpp"
+
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
 
@@ -103,6 +108,84 @@ TEST(BlockScenario, ProblemsNameTheBlock) {
   problems = scenarioSchema().resolve(input).problems;
   ASSERT_EQ(problems.size(), 1u);
   EXPECT_EQ(problems[0].path, "route.blocks[2].radius_m");
+}
+
+// The pose at any time (Trajectory::at) against the sampled trajectory and its own derivatives.
+std::vector<double> csvRow(const std::string& text, std::size_t row) {
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i <= row; ++i)
+    begin = text.find('\n', begin) + 1;  // skip the header and `row` rows
+  std::vector<double> out;
+  std::stringstream line(text.substr(begin, text.find('\n', begin) - begin));
+  std::string field;
+  while (std::getline(line, field, ','))
+    out.push_back(std::stod(field));
+  return out;
+}
+
+TEST(PoseAtAnyTime, AgreesWithTheSampledTrajectoryFileAtSampleTimes) {
+  const std::unique_ptr<Plan> plan = planFor({{"route", {{"generator", {{"length_m", 3000}}}}}});
+  const TrainTrajectory& traj = *plan->trajectory;
+  const std::string csv = trajectoryCsv(*plan);
+  for (std::int64_t k = 0; k < traj.sampleCount(); k += 97) {
+    const TrajectorySample s = traj.at(k * traj.samplePeriod());
+    const std::vector<double> row = csvRow(csv, static_cast<std::size_t>(k));
+    ASSERT_EQ(static_cast<TimeNs>(row[0]), s.t_ns);
+    // x_m y_m z_m (columns 13–15) are written to 1 µm, yaw pitch roll to 12 digits.
+    EXPECT_NEAR(row[13], s.p_world.x(), 5e-7);
+    EXPECT_NEAR(row[14], s.p_world.y(), 5e-7);
+    EXPECT_NEAR(row[15], s.p_world.z(), 5e-7);
+    const Eigen::Matrix3d r = attitude(row[16], row[17], row[18]);
+    EXPECT_LT((r - s.q_world_body.toRotationMatrix()).norm(), 1e-11);
+    // sample(k) is at(k T_S) bit for bit.
+    const TrajectorySample again = traj.sample(k);
+    EXPECT_EQ(again.p_world, s.p_world);
+    EXPECT_EQ(again.v_world, s.v_world);
+  }
+}
+
+TEST(PoseAtAnyTime, DerivativesMatchFiniteDifferencesBetweenSamples) {
+  const scenario::Json input = {
+      {"route", {{"transition_shape", "bloss"}, {"generator", {{"length_m", 4000}}}}},
+      {"train", {{"reference_point", {{"x_m", 6.0}, {"y_m", 0.7}, {"z_m", 3.2}}}}}};
+  const std::unique_ptr<Plan> plan = planFor(input);
+  const TrainTrajectory& traj = *plan->trajectory;
+  constexpr TimeNs h_ns = 100'000;  // 0.1 ms
+  const double h = toSeconds(h_ns);
+  int checked = 0;
+  for (std::int64_t k = 2; k + 2 < traj.sampleCount(); k += 7) {
+    // Half-way between two samples, where nothing was ever sampled.
+    const TimeNs t = k * traj.samplePeriod() + traj.samplePeriod() / 2;
+    std::array<TrajectorySample, 5> s;
+    for (int j = -2; j <= 2; ++j)
+      s[static_cast<std::size_t>(j + 2)] = traj.at(t + j * h_ns);
+    const TrajectorySample& c = s[2];
+    // Bounds from the stencil itself (see the top of this file): h²/2 max|x'''| estimated.
+    const double jerk =
+        std::max((s[3].a_world - s[1].a_world).norm(), (s[4].a_world - s[0].a_world).norm() / 2) /
+        (2 * h);
+    const Eigen::Vector3d fd_v = (s[3].p_world - s[1].p_world) / (2 * h);
+    const Eigen::Vector3d fd_a = (s[3].v_world - s[1].v_world) / (2 * h);
+    ASSERT_LE((fd_v - c.v_world).norm(), h * h / 2 * jerk + 1e-7) << "t " << t;
+    ASSERT_LE((fd_a - c.a_world).norm(), h * jerk + 1e-6) << "t " << t;
+    // Angular velocity from the rotation increment: log(R(t-h)ᵀ R(t+h)) / 2h, in body axes.
+    const Eigen::AngleAxisd inc(s[1].q_world_body.conjugate() * s[3].q_world_body);
+    const Eigen::Vector3d fd_w = inc.axis() * inc.angle() / (2 * h);
+    const double spin = std::max((s[3].alpha_body - s[1].alpha_body).norm() / (2 * h), 1e-6);
+    ASSERT_LE((fd_w - c.w_body).norm(), h * h * spin + c.w_body.norm() * c.w_body.norm() * h + 1e-9)
+        << "t " << t;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+TEST(PoseAtAnyTime, ClampsToTheRunAndKeepsIntegerTime) {
+  const std::unique_ptr<Plan> plan = planFor({{"route", {{"generator", {{"length_m", 2000}}}}}});
+  const TrainTrajectory& traj = *plan->trajectory;
+  EXPECT_EQ(traj.at(-5).p_world, traj.sample(0).p_world);
+  EXPECT_EQ(traj.at(traj.endTime() + 1'000'000'000).p_world,
+            traj.sample(traj.sampleCount() - 1).p_world);
+  EXPECT_EQ(traj.at(123'456'789).t_ns, 123'456'789);
 }
 
 }  // namespace

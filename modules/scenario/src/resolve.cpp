@@ -101,15 +101,20 @@ class Resolver {
       problem(path, fmt::format("has {} items; at most {} are allowed", in.size(), *p.max_items));
     }
     Json out = Json::array();
+    const std::size_t outer_item = item_;
     for (std::size_t i = 0; i < in.size(); ++i) {
+      item_ = i;
       out.push_back(resolve(*p.item, &in[i], fmt::format("{}[{}]", path, i)));
     }
+    item_ = outer_item;
     return out;
   }
 
   Json resolveLeaf(const Param& p, const Json* input, const std::string& path) {
     if (input == nullptr) {
       recordMultiple(p, p.default_value, path);
+      if (p.numbered_per_item && item_ > 0)
+        return Json(fmt::format("{}_{}", p.default_value.get<std::string>(), item_));
       return p.default_value;
     }
     const Json& v = *input;
@@ -196,6 +201,7 @@ class Resolver {
 
   std::vector<Problem>& problems_;
   std::vector<PendingMultiple> multiples_;
+  std::size_t item_ = 0;  // index of the array item being resolved (innermost)
 };
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "trainsim/core/frames.hpp"
+
 namespace trainsim::sim {
 namespace {
 
@@ -10,21 +12,15 @@ Eigen::Isometry3d cameraPose(const TrajectorySample& s) {
   T_world_body.linear() = s.q_world_body.toRotationMatrix();
   T_world_body.translation() = s.p_world;
   Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
-  T_body_cam.linear() = FrameClock::rotationBodyFromCamera();
+  T_body_cam.linear() = rotationBodyFromKittiCamera();
   return T_world_body * T_body_cam;
 }
 
 }  // namespace
 
-Eigen::Matrix3d FrameClock::rotationBodyFromCamera() {
-  // Columns: camera x (right) = -body y, camera y (down) = -body z, camera z (forward) = body x.
-  Eigen::Matrix3d r;
-  r << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  return r;
-}
-
 FrameClock::FrameClock(TimeNs period, const Trajectory& trajectory)
-    : period_(period),
+    : trajectory_(trajectory),
+      period_(period),
       T_cam0_world_first_(trajectory.sampleCount() > 0 ? cameraPose(trajectory.sample(0)).inverse()
                                                        : Eigen::Isometry3d::Identity()) {}
 
@@ -34,17 +30,22 @@ void FrameClock::begin(io::DatasetWriter& writer, const nlohmann::json& /*state*
   poses_ = &writer.appendFile(dir / "poses.txt");
 }
 
-void FrameClock::capture(std::int64_t /*k*/, const TrajectorySample& sample) {
-  times_->write(fmt::format("{}.{:09}\n", sample.t_ns / kNsPerSecond, sample.t_ns % kNsPerSecond));
+FrameLines FrameClock::read(std::int64_t k) const {
+  const TrajectorySample sample = trajectory_.sample(k);
   // Relative to frame 0, so positions stay small and 12 significant digits keep sub-micrometre
   // resolution even for long routes far from the scenario origin.
   const Eigen::Isometry3d T = T_cam0_world_first_ * cameraPose(sample);
   const Eigen::Matrix<double, 3, 4> m = T.matrix().topRows<3>();
-  poses_->write(
-      fmt::format("{:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} "
-                  "{:.12e} {:.12e} {:.12e} {:.12e}\n",
-                  m(0, 0), m(0, 1), m(0, 2), m(0, 3), m(1, 0), m(1, 1), m(1, 2), m(1, 3), m(2, 0),
-                  m(2, 1), m(2, 2), m(2, 3)));
+  return {fmt::format("{}.{:09}\n", sample.t_ns / kNsPerSecond, sample.t_ns % kNsPerSecond),
+          fmt::format("{:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} "
+                      "{:.12e} {:.12e} {:.12e}\n",
+                      m(0, 0), m(0, 1), m(0, 2), m(0, 3), m(1, 0), m(1, 1), m(1, 2), m(1, 3),
+                      m(2, 0), m(2, 1), m(2, 2), m(2, 3))};
+}
+
+void FrameClock::write(std::int64_t /*k*/, FrameLines& lines) {
+  times_->write(lines.time);
+  poses_->write(lines.pose);
 }
 
 }  // namespace trainsim::sim

@@ -61,12 +61,15 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     sensors.insert(sensors.begin(), std::make_unique<FrameClock>(frame_period, *trajectory));
     MovementOptions movement;
     movement.checkpoint_every_samples = frame_period / trajectory->samplePeriod();
+    movement.threads = options.threads;
     movement.progress = options.progress;
     movement.cancel = options.cancel;
-    const std::vector<std::int64_t> readings = runMovement(*trajectory, sensors, writer, movement);
+    const MovementReport run = runMovement(*trajectory, sensors, writer, movement);
     for (std::size_t i = 0; i < sensors.size(); ++i) {
-      report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), readings[i]});
+      report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), run.readings[i]});
     }
+    report.threads = run.threads;
+    report.render_threads = run.render_threads;
     report.samples = trajectory->sampleCount();
   }
   writer.finish(manifest(scenario, sequence, trajectory, report));
@@ -82,7 +85,9 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
       "cameras",
   };
   const std::unique_ptr<Plan> plan = makePlan(scenario);
-  std::vector<std::unique_ptr<Sensor>> sensors = createSensors(scenario, &plan->route.route);
+  const SensorContext context =
+      makeSensorContext(scenario, *plan->trajectory, &plan->route.route, &plan->layout);
+  std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
   return runDataset(scenario, plan->trajectory.get(), std::move(sensors), options,
                     std::move(not_run), [&](io::DatasetWriter& writer) {
                       writePlan(*plan, [&](const std::string& name, const std::string& bytes) {

@@ -1,5 +1,7 @@
 #include "imu_sensor.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -9,9 +11,11 @@
 #include <Eigen/Geometry>
 
 #include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/inertial/earth.hpp"
 #include "trainsim/inertial/error_model.hpp"
+#include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -20,8 +24,8 @@ using scenario::Json;
 using scenario::number;
 using scenario::object;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kG = 9.80665;
+constexpr double kDeg = kRadPerDeg;
+constexpr double kG = kStandardGravity_m_s2;
 
 // Datasheet-class presets (rail-imu-reference.md §2.4; values marked [std-memory] there are
 // typical datasheet figures, not measurements). SI units.
@@ -102,34 +106,35 @@ inertial::TriadSpec customTriad(const Json& c, const std::string& u, bool gyro) 
   return t;
 }
 
-class ImuSensor final : public Sensor {
+// What render() computes for one reading: the truth at the sensor (pure in the trajectory).
+struct ImuTruthReading {
+  TimeNs t_ns = 0;
+  inertial::ImuTruth truth;
+  Eigen::Vector3d field = Eigen::Vector3d::Zero();  // sensor axes, before hard and soft iron
+};
+
+class ImuSensor final : public SensorOf<ImuTruthReading> {
  public:
-  ImuSensor(const SensorSetup& setup)
-      : name_(setup.config.at("name").get<std::string>()),
-        period_(setup.config.at("period_ns").get<TimeNs>()),
-        anchor_({setup.scenario.get<double>("geodetic_origin.latitude_deg"),
-                 setup.scenario.get<double>("geodetic_origin.longitude_deg"),
-                 setup.scenario.get<double>("geodetic_origin.height_m")}),
-        earth_(anchor_.origin(), setup.config.at("earth_rotation").get<bool>()),
-        accel_(spec(setup, "accelerometer"), RandomStream(setup.scenario.seed(), name_ + ".accel"),
-               toSeconds(period_)),
-        gyro_(spec(setup, "gyroscope"), RandomStream(setup.scenario.seed(), name_ + ".gyro"),
-              toSeconds(period_)),
+  explicit ImuSensor(const SensorSetup& setup)
+      : trajectory_(setup.context.trajectory),
+        name_(readSensorName(setup.config)),
+        period_(readPeriod(setup.config)),
+        mount_(readMount(setup.config)),
+        earth_(setup.context.anchor.origin(), setup.config.at("earth_rotation").get<bool>()),
+        gravity_([this] { return inertial::LocalGravity(earth_); }),
+        field_model_(setup.context.anchor),
+        accel_(spec(setup, "accelerometer"),
+               RandomStream(setup.context.scenario.seed(), name_ + ".accel"), toSeconds(period_)),
+        gyro_(spec(setup, "gyroscope"),
+              RandomStream(setup.context.scenario.seed(), name_ + ".gyro"), toSeconds(period_)),
         mag_(magSpec(setup.config.at("magnetometer")),
-             RandomStream(setup.scenario.seed(), name_ + ".mag"), toSeconds(period_)),
+             RandomStream(setup.context.scenario.seed(), name_ + ".mag"), toSeconds(period_)),
         mag_on_(setup.config.at("magnetometer").at("enabled").get<bool>()) {
-    const Json& m = setup.config.at("mount");
-    mount_ = {m.at("x_m").get<double>(), m.at("y_m").get<double>(), m.at("z_m").get<double>()};
-    r_body_sensor_ =
-        (Eigen::AngleAxisd(m.at("yaw_deg").get<double>() * kDeg, Eigen::Vector3d::UnitZ()) *
-         Eigen::AngleAxisd(m.at("pitch_deg").get<double>() * kDeg, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(m.at("roll_deg").get<double>() * kDeg, Eigen::Vector3d::UnitX()))
-            .toRotationMatrix();
     const Json& t = setup.config.at("temperature");
     t_start_ = t.at("start_c").get<double>() - t.at("reference_c").get<double>();
     t_rate_ = t.at("rate_c_s").get<double>();
     // Hard and soft iron: per-run draws.
-    const RandomStream iron(setup.scenario.seed(), name_ + ".mag.iron");
+    const RandomStream iron(setup.context.scenario.seed(), name_ + ".mag.iron");
     const auto a = iron.normal4(0), b = iron.normal4(1), c = iron.normal4(2);
     const double hard = setup.config.at("magnetometer").at("hard_iron_t").get<double>();
     const double soft = setup.config.at("magnetometer").at("soft_iron").get<double>();
@@ -146,8 +151,7 @@ class ImuSensor final : public Sensor {
       return customTriad(setup.config.at(which), gyro ? "rad_s" : "m_s2", gyro);
     const auto p = preset(name);
     if (!p)
-      throw ConfigError(
-          fmt::format("sensors.imus[{}].preset: unknown preset '{}'", setup.index, name));
+      throw ConfigError(fmt::format("{}.preset: unknown preset '{}'", setup.path, name));
     return gyro ? p->gyro : p->accel;
   }
   static inertial::TriadSpec magSpec(const Json& m) {
@@ -177,55 +181,63 @@ class ImuSensor final : public Sensor {
     }
   }
 
-  void capture(std::int64_t, const TrajectorySample& s) override {
-    const Eigen::Matrix3d r_wb = s.q_world_body.toRotationMatrix();
-    const Eigen::Vector3d arm = r_wb * mount_;
-    inertial::MountKinematics m;
-    m.p_world = s.p_world + arm;
-    m.v_world = s.v_world + r_wb * s.w_body.cross(mount_);
-    m.a_world =
-        s.a_world + r_wb * (s.alpha_body.cross(mount_) + s.w_body.cross(s.w_body.cross(mount_)));
-    m.r_world_sensor = r_wb * r_body_sensor_;
-    m.w_sensor = r_body_sensor_.transpose() * s.w_body;
-    const inertial::ImuTruth truth = inertial::imuTruth(earth_, m, gravity_.at(m.p_world));
-    const Eigen::Vector3d field = m.r_world_sensor.transpose() * field_model_.at(m.p_world);
-    const double dt = toSeconds(s.t_ns);
-    const double temperature = t_start_ + t_rate_ * dt;
-    // The error models count readings (their slow terms update every so many readings).
-    const auto index = static_cast<std::uint64_t>(s.t_ns / period_);
-    const Eigen::Vector3d a = accel_.measure(index, truth.specific_force, {}, temperature);
-    const Eigen::Vector3d w =
-        gyro_.measure(index, truth.angular_rate, truth.specific_force, temperature);
-    Eigen::Vector3d mag = Eigen::Vector3d::Zero();
-    if (mag_on_)
-      mag = mag_.measure(index, soft_iron_ * (field + hard_iron_));
-    csv_->write(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
-                            s.t_ns, a.x(), a.y(), a.z(), w.x(), w.y(), w.z(), mag.x(), mag.y(),
-                            mag.z()));
-    const Eigen::Vector3d ba = accel_.bias(), bg = gyro_.bias();
-    truth_->write(fmt::format(
-        "{},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
-        "{:.9g},{:.9g},{:.9g},{:.9g}\n",
-        s.t_ns, truth.specific_force.x(), truth.specific_force.y(), truth.specific_force.z(),
-        truth.angular_rate.x(), truth.angular_rate.y(), truth.angular_rate.z(), field.x(),
-        field.y(), field.z(), ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z()));
-  }
-
   nlohmann::json state() const override {
     return {{"accel", accel_.state()}, {"gyro", gyro_.state()}, {"mag", mag_.state()}};
   }
 
  private:
+  ImuTruthReading read(std::int64_t k) const override {
+    const TrajectorySample s = trajectory_.sample(k);
+    const Eigen::Vector3d& r = mount_.position_m;
+    const Eigen::Matrix3d r_wb = s.q_world_body.toRotationMatrix();
+    inertial::MountKinematics m;
+    m.p_world = s.p_world + r_wb * r;
+    m.v_world = s.v_world + r_wb * s.w_body.cross(r);
+    m.a_world = s.a_world + r_wb * (s.alpha_body.cross(r) + s.w_body.cross(s.w_body.cross(r)));
+    m.r_world_sensor = r_wb * mount_.r_body_sensor;
+    m.w_sensor = mount_.r_body_sensor.transpose() * s.w_body;
+    ImuTruthReading out;
+    out.t_ns = s.t_ns;
+    out.truth = inertial::imuTruth(earth_, m, gravity_.local().at(m.p_world));
+    out.field = m.r_world_sensor.transpose() * field_model_.at(m.p_world);
+    return out;
+  }
+
+  void write(std::int64_t, ImuTruthReading& r) override {
+    const inertial::ImuTruth& truth = r.truth;
+    const double temperature = t_start_ + t_rate_ * toSeconds(r.t_ns);
+    // The error models count readings (their slow terms update every so many readings).
+    const auto index = static_cast<std::uint64_t>(r.t_ns / period_);
+    const Eigen::Vector3d a =
+        accel_.measure(index, truth.specific_force, Eigen::Vector3d::Zero(), temperature);
+    const Eigen::Vector3d w =
+        gyro_.measure(index, truth.angular_rate, truth.specific_force, temperature);
+    Eigen::Vector3d mag = Eigen::Vector3d::Zero();
+    if (mag_on_)
+      mag = mag_.measure(index, soft_iron_ * (r.field + hard_iron_));
+    csv_->write(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                            r.t_ns, a.x(), a.y(), a.z(), w.x(), w.y(), w.z(), mag.x(), mag.y(),
+                            mag.z()));
+    const Eigen::Vector3d ba = accel_.bias(), bg = gyro_.bias();
+    const Eigen::Vector3d& field = r.field;
+    truth_->write(fmt::format(
+        "{},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
+        "{:.9g},{:.9g},{:.9g},{:.9g}\n",
+        r.t_ns, truth.specific_force.x(), truth.specific_force.y(), truth.specific_force.z(),
+        truth.angular_rate.x(), truth.angular_rate.y(), truth.angular_rate.z(), field.x(),
+        field.y(), field.z(), ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z()));
+  }
+
+  const Trajectory& trajectory_;
   std::string name_;
   TimeNs period_;
-  GeodeticAnchor anchor_;
+  Mount mount_;
   inertial::Earth earth_;
-  inertial::LocalGravity gravity_{earth_};
-  inertial::DipoleField field_model_{anchor_};
+  // Gravity caches per rendering thread; each is a pure function of position.
+  mutable tbb::enumerable_thread_specific<inertial::LocalGravity> gravity_;
+  inertial::DipoleField field_model_;
   inertial::TriadErrorModel accel_, gyro_, mag_;
   bool mag_on_;
-  Eigen::Vector3d mount_;
-  Eigen::Matrix3d r_body_sensor_;
   Eigen::Vector3d hard_iron_;
   Eigen::Matrix3d soft_iron_;
   double t_start_ = 0.0, t_rate_ = 0.0;
@@ -240,17 +252,9 @@ scenario::Param declareImu() {
       "imu",
       "A 9-axis IMU on the carbody. Columns in the sensor's own axes; imu.csv is the "
       "measurement, <name>_truth.csv the true specific force, rate, field and biases.",
-      {scenario::string("name", "imu", "Sensor name: files <name>.csv and <name>_truth.csv"),
-       scenario::integer("period_ns", 10'000'000, "ns", "Output period (100 Hz by default)")
-           .range(100'000, 1'000'000'000)
-           .multipleOf("trajectory.sample_period_ns"),
-       object("mount", "Pose of the sensor relative to the body reference point (body axes)",
-              {number("x_m", 0, "m", "Forward").range(-100, 100),
-               number("y_m", 0, "m", "Left").range(-10, 10),
-               number("z_m", 0, "m", "Up").range(-10, 10),
-               number("roll_deg", 0, "deg", "Sensor roll about body x").range(-180, 180),
-               number("pitch_deg", 0, "deg", "Sensor pitch about body y").range(-90, 90),
-               number("yaw_deg", 0, "deg", "Sensor yaw about body z").range(-180, 180)}),
+      {declareSensorName("imu", "<name>.csv and <name>_truth.csv"),
+       declarePeriod(10'000'000, 100'000, 1'000'000'000, "Output period (100 Hz by default)"),
+       declareMount("Pose of the sensor's axes"),
        scenario::choice("preset", "industrial",
                         {"industrial", "consumer", "tactical", "ideal", "custom"},
                         "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal "

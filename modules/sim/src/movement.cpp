@@ -1,10 +1,39 @@
 #include "trainsim/sim/movement.hpp"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <bit>
 
 #include "trainsim/core/error.hpp"
 
 namespace trainsim::sim {
+namespace {
+
+// The readings of samples [begin, end): rendered in parallel, committed in order.
+struct Chunk {
+  struct Job {
+    std::int64_t k;
+    std::size_t sensor;
+    Reading reading;
+  };
+  std::int64_t begin = 0;
+  std::int64_t end = 0;
+  std::vector<Job> jobs;  // sample order, then sensor order
+};
+
+void checkCancel(const std::atomic<bool>* cancel, std::int64_t k) {
+  if (cancel && cancel->load(std::memory_order_relaxed))
+    throw Cancelled("run cancelled at sample " + std::to_string(k));
+}
+
+}  // namespace
 
 std::int64_t readingsBefore(std::int64_t end, TimeNs sample_period, TimeNs period) {
   if (end <= 0)
@@ -13,9 +42,9 @@ std::int64_t readingsBefore(std::int64_t end, TimeNs sample_period, TimeNs perio
   return (end - 1) / stride + 1;  // samples 0, stride, 2*stride, ... below end
 }
 
-std::vector<std::int64_t> runMovement(const Trajectory& trajectory,
-                                      std::vector<std::unique_ptr<Sensor>>& sensors,
-                                      io::DatasetWriter& writer, const MovementOptions& options) {
+MovementReport runMovement(const Trajectory& trajectory,
+                           std::vector<std::unique_ptr<Sensor>>& sensors, io::DatasetWriter& writer,
+                           const MovementOptions& options) {
   const TimeNs ts = trajectory.samplePeriod();
   const std::int64_t count = trajectory.sampleCount();
   std::vector<std::int64_t> strides;
@@ -33,7 +62,6 @@ std::vector<std::int64_t> runMovement(const Trajectory& trajectory,
     const std::string name = s->name();
     s->begin(writer, saved.is_object() && saved.contains(name) ? saved.at(name) : nlohmann::json());
   }
-
   auto state = [&] {
     nlohmann::json all = nlohmann::json::object();
     for (const auto& s : sensors) {
@@ -44,39 +72,79 @@ std::vector<std::int64_t> runMovement(const Trajectory& trajectory,
     return all;
   };
 
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  // TBB caps its workers at the core count unless told otherwise; --threads N must mean N.
+  const tbb::global_control allow(
+      tbb::global_control::max_allowed_parallelism,
+      static_cast<std::size_t>(std::max(threads, tbb::info::default_concurrency())));
+  tbb::task_arena arena(threads);
+  std::atomic<std::uint64_t> render_slots{0};  // bit i: arena slot i ran render()
+
   if (options.progress)
     options.progress->begin("simulate", count, "samples", first);
   const std::int64_t every = std::max<std::int64_t>(1, options.checkpoint_every_samples);
-  for (std::int64_t k = first; k < count; ++k) {
-    if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
-      throw Cancelled("run cancelled at sample " + std::to_string(k));
+  std::int64_t next = first;
+  auto source = [&](tbb::flow_control& fc) -> std::shared_ptr<Chunk> {
+    if (next >= count) {
+      fc.stop();
+      return nullptr;
     }
-    bool fired = false;
-    for (std::size_t i = 0; i < sensors.size() && !fired; ++i)
-      fired = k % strides[i] == 0;
-    if (fired) {
-      const TrajectorySample sample = trajectory.sample(k);
-      for (std::size_t i = 0; i < sensors.size(); ++i) {
+    checkCancel(options.cancel, next);
+    auto chunk = std::make_shared<Chunk>();
+    chunk->begin = next;
+    chunk->end = std::min(count, (next / every + 1) * every);
+    for (std::int64_t k = chunk->begin; k < chunk->end; ++k)
+      for (std::size_t i = 0; i < sensors.size(); ++i)
         if (k % strides[i] == 0)
-          sensors[i]->capture(k, sample);
-      }
-      if (options.progress)
-        options.progress->update(k + 1);
-    }
-    if ((k + 1) % every == 0 && k + 1 < count) {
-      writer.checkpoint(k + 1, state());
-    }
-  }
+          chunk->jobs.push_back({k, i, {}});
+    next = chunk->end;
+    return chunk;
+  };
+  auto render = [&](std::shared_ptr<Chunk> chunk) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk->jobs.size()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        const int slot = tbb::this_task_arena::current_thread_index();
+                        if (slot >= 0 && slot < 64)
+                          render_slots.fetch_or(std::uint64_t{1} << slot,
+                                                std::memory_order_relaxed);
+                        for (std::size_t j = r.begin(); j < r.end(); ++j) {
+                          Chunk::Job& job = chunk->jobs[j];
+                          job.reading = sensors[job.sensor]->render(job.k);
+                        }
+                      });
+    return chunk;
+  };
+  auto commit = [&](std::shared_ptr<Chunk> chunk) {
+    checkCancel(options.cancel, chunk->begin);
+    for (Chunk::Job& job : chunk->jobs)
+      sensors[job.sensor]->commit(job.k, job.reading);
+    if (options.progress && !chunk->jobs.empty())
+      options.progress->update(chunk->end);
+    if (chunk->end < count)
+      writer.checkpoint(chunk->end, state());
+  };
+  const auto in_flight = static_cast<std::size_t>(2 * threads + 1);
+  arena.execute([&] {
+    tbb::parallel_pipeline(
+        in_flight,
+        tbb::make_filter<void, std::shared_ptr<Chunk>>(tbb::filter_mode::serial_in_order, source) &
+            tbb::make_filter<std::shared_ptr<Chunk>, std::shared_ptr<Chunk>>(
+                tbb::filter_mode::parallel, render) &
+            tbb::make_filter<std::shared_ptr<Chunk>, void>(tbb::filter_mode::serial_in_order,
+                                                           commit));
+  });
   for (auto& s : sensors)
     s->end();
   writer.checkpoint(count, state());
   if (options.progress)
     options.progress->end();
 
-  std::vector<std::int64_t> readings;
+  MovementReport report;
   for (const auto& s : sensors)
-    readings.push_back(readingsBefore(count, ts, s->period()));
-  return readings;
+    report.readings.push_back(readingsBefore(count, ts, s->period()));
+  report.threads = arena.max_concurrency();
+  report.render_threads = std::popcount(render_slots.load());
+  return report;
 }
 
 }  // namespace trainsim::sim

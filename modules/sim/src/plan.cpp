@@ -135,15 +135,19 @@ track::MotionState TrainTrajectory::motion(std::int64_t k) const {
   return motion_.at(toSeconds(k * period_));
 }
 
+track::MotionState TrainTrajectory::motionAt(TimeNs t) const {
+  return motion_.at(toSeconds(std::clamp<TimeNs>(t, 0, endTime())));
+}
+
 track::BodyState TrainTrajectory::body(const track::MotionState& m) const {
   return track::bodyState(track_, vehicle_, m);
 }
 
-TrajectorySample TrainTrajectory::sample(std::int64_t k) const {
-  const track::MotionState m = motion(k);
+TrajectorySample TrainTrajectory::at(TimeNs t) const {
+  const track::MotionState m = motionAt(t);
   const track::BodyState b = body(m);
   TrajectorySample s;
-  s.t_ns = k * period_;
+  s.t_ns = std::clamp<TimeNs>(t, 0, endTime());
   s.chainage_m = b.front_track.chainage_m;
   s.distance_m = m.u_m;
   s.p_world = b.pointPosition(reference_);

@@ -2,13 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cmath>
-#include <numbers>
-
 #include "trainsim/core/error.hpp"
-#include "trainsim/core/geodesy.hpp"
-#include "trainsim/core/random.hpp"
+#include "trainsim/positioning/balise.hpp"
+#include "trainsim/positioning/gnss.hpp"
+#include "trainsim/positioning/odometer.hpp"
+#include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -17,45 +15,54 @@ using scenario::Json;
 using scenario::number;
 using scenario::object;
 
+// Thin adapters: the physics is in modules/positioning; these read the scenario, take the
+// truth from the trajectory in render() and run the models and write CSV rows in commit().
+
 std::filesystem::path sequenceFile(io::DatasetWriter& writer, const std::string& name) {
   return writer.sequenceDir().lexically_relative(writer.root()) / (name + ".csv");
 }
 
-const track::Route& requireRoute(const SensorSetup& setup, const char* kind) {
-  if (setup.route == nullptr)
-    throw RuntimeError(fmt::format("{} sensor needs the planned route", kind));
-  return *setup.route;
+const track::Route& requireRoute(const SensorSetup& setup) {
+  if (setup.context.route == nullptr)
+    throw RuntimeError(fmt::format("{}: this sensor needs the planned route", setup.path));
+  return *setup.context.route;
 }
 
 // ---------------------------------------------------------------------------------------
-// GNSS: fix = truth + Gauss–Markov (exactly discretised) + white error, in local east/north/up
-// metres at the antenna; no fix while the antenna is in a tunnel, and none for
-// `reacquisition_s` after it leaves one.
+// GNSS receiver: the antenna's true position and velocity (render), the error model and the
+// tunnel outage (commit).
 
-class GnssSensor final : public Sensor {
+struct AntennaTruth {
+  TimeNs t_ns = 0;
+  Eigen::Vector3d p_world, v_world;
+  bool in_tunnel = false;
+};
+
+class GnssSensor final : public SensorOf<AntennaTruth> {
  public:
   explicit GnssSensor(const SensorSetup& setup)
-      : name_(setup.config.at("name").get<std::string>()),
-        period_(setup.config.at("period_ns").get<TimeNs>()),
-        anchor_({setup.scenario.get<double>("geodetic_origin.latitude_deg"),
-                 setup.scenario.get<double>("geodetic_origin.longitude_deg"),
-                 setup.scenario.get<double>("geodetic_origin.height_m")}),
-        route_(requireRoute(setup, "gnss")),
-        rnd_(setup.scenario.seed(), name_ + ".gnss") {
-    const Json& c = setup.config;
-    antenna_ = {c.at("antenna").at("x_m").get<double>(), c.at("antenna").at("y_m").get<double>(),
-                c.at("antenna").at("z_m").get<double>()};
-    sigma_ = {c.at("horizontal_sigma_m").get<double>(), c.at("horizontal_sigma_m").get<double>(),
-              c.at("vertical_sigma_m").get<double>()};
-    white_ = c.at("white_sigma_m").get<double>();
-    vel_sigma_ = c.at("velocity_sigma_m_s").get<double>();
-    vel_gm_sigma_ = c.at("velocity_gm_sigma_m_s").get<double>();
-    phi_ = std::exp(-toSeconds(period_) / c.at("correlation_time_s").get<double>());
-    reacquire_ns_ = fromSeconds(c.at("reacquisition_s").get<double>());
-    // Along the track, the antenna sits this far ahead of the front pivot (negative: behind).
-    ahead_of_front_ = setup.scenario.get<double>("train.reference_point.x_m") + antenna_.x() -
-                      0.5 * setup.scenario.get<double>("train.bogie_spacing_m");
+      : trajectory_(setup.context.trajectory),
+        anchor_(setup.context.anchor),
+        route_(requireRoute(setup)),
+        name_(readSensorName(setup.config)),
+        period_(readPeriod(setup.config)),
+        mount_(readMount(setup.config)),
+        ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), mount_)),
+        errors_(spec(setup.config), period_,
+                RandomStream(setup.context.scenario.seed(), name_ + ".gnss")),
+        outage_(fromSeconds(setup.config.at("reacquisition_s").get<double>())) {}
+
+  static positioning::GnssErrorSpec spec(const Json& c) {
+    positioning::GnssErrorSpec e;
+    e.horizontal_sigma_m = c.at("horizontal_sigma_m").get<double>();
+    e.vertical_sigma_m = c.at("vertical_sigma_m").get<double>();
+    e.correlation_time_s = c.at("correlation_time_s").get<double>();
+    e.white_sigma_m = c.at("white_sigma_m").get<double>();
+    e.velocity_sigma_m_s = c.at("velocity_sigma_m_s").get<double>();
+    e.velocity_gm_sigma_m_s = c.at("velocity_gm_sigma_m_s").get<double>();
+    return e;
   }
+
   std::string name() const override { return name_; }
   std::string kind() const override { return "gnss"; }
   TimeNs period() const override { return period_; }
@@ -65,304 +72,193 @@ class GnssSensor final : public Sensor {
     if (state.is_null()) {
       csv_->write("t_ns,fix,latitude_deg,longitude_deg,height_m,ve_m_s,vn_m_s,vu_m_s\n");
     } else {
-      for (std::size_t a = 0; a < 3; ++a) {
-        gm_[a] = state.at("gm").at(a).get<double>();
-        vel_gm_[a] = state.at("vel_gm").at(a).get<double>();
-      }
-      started_ = state.at("started").get<bool>();
-      last_tunnel_ns_ = state.at("last_tunnel_ns").get<TimeNs>();
+      errors_.restore(state.at("errors"));
+      outage_.restore(state.at("last_tunnel_ns").get<TimeNs>());
     }
-  }
-
-  bool inTunnel(double chainage) const {
-    const track::Block& b = route_.blockAt(chainage);
-    return b.type == track::BlockType::kTunnel && chainage >= b.chainage_begin_m &&
-           chainage <= b.chainage_end_m;
-  }
-
-  void capture(std::int64_t k, const TrajectorySample& s) override {
-    const Eigen::Matrix3d r = s.q_world_body.toRotationMatrix();
-    const Eigen::Vector3d p = s.p_world + r * antenna_;
-    const Eigen::Vector3d v = s.v_world + r * s.w_body.cross(antenna_);
-    const double chainage = s.chainage_m + ahead_of_front_;
-    const auto n = rnd_.normal4(static_cast<std::uint64_t>(k), 0);
-    const auto m = rnd_.normal4(static_cast<std::uint64_t>(k), 1);
-    const auto vn = rnd_.normal4(static_cast<std::uint64_t>(k), 3);
-    // The error processes run through outages too (the satellites' geometry does not stop).
-    // Exact Gauss–Markov steps; the first reading starts from the stationary distribution.
-    const double q = started_ ? std::sqrt(1 - phi_ * phi_) : 1.0;
-    const double f = started_ ? phi_ : 0.0;
-    for (std::size_t a = 0; a < 3; ++a) {
-      gm_[a] = f * gm_[a] + sigma_[static_cast<int>(a)] * q * n[a];
-      vel_gm_[a] = f * vel_gm_[a] + vel_gm_sigma_ * q * vn[a];
-    }
-    started_ = true;
-    if (inTunnel(chainage))
-      last_tunnel_ns_ = s.t_ns;
-    const bool fix = last_tunnel_ns_ < 0 || s.t_ns - last_tunnel_ns_ >= reacquire_ns_;
-    if (!fix) {
-      csv_->write(fmt::format("{},0,,,,,,\n", s.t_ns));
-      return;
-    }
-    const Eigen::Vector3d err(gm_[0] + white_ * n[3], gm_[1] + white_ * m[0],
-                              gm_[2] + white_ * m[1]);
-    // Errors are east/north/up at the antenna; the anchor frame's axes differ from the local
-    // ones by the angle subtended at the Earth's centre, which rotateAnchorFromLocalEnu gives.
-    const Eigen::Matrix3d r_anchor_local = anchor_.rotationAnchorFromLocalEnu(p);
-    const Eigen::Vector3d p_meas = p + r_anchor_local * err;
-    const GeodeticPoint g = anchor_.fromEnu(p_meas);
-    const Eigen::Vector3d v_local = r_anchor_local.transpose() * v;
-    const auto w = rnd_.normal4(static_cast<std::uint64_t>(k), 2);
-    csv_->write(fmt::format("{},1,{:.10f},{:.10f},{:.4f},{:.4f},{:.4f},{:.4f}\n", s.t_ns,
-                            g.latitude_deg, g.longitude_deg, g.height_m,
-                            v_local.x() + vel_gm_[0] + vel_sigma_ * w[0],
-                            v_local.y() + vel_gm_[1] + vel_sigma_ * w[1],
-                            v_local.z() + vel_gm_[2] + vel_sigma_ * w[2]));
   }
 
   nlohmann::json state() const override {
-    return {{"gm", {gm_[0], gm_[1], gm_[2]}},
-            {"vel_gm", {vel_gm_[0], vel_gm_[1], vel_gm_[2]}},
-            {"started", started_},
-            {"last_tunnel_ns", last_tunnel_ns_}};
+    return {{"errors", errors_.state()}, {"last_tunnel_ns", outage_.lastTunnel()}};
   }
 
  private:
+  AntennaTruth read(std::int64_t k) const override {
+    const TrajectorySample s = trajectory_.sample(k);
+    const Eigen::Matrix3d r = s.q_world_body.toRotationMatrix();
+    const Eigen::Vector3d& arm = mount_.position_m;
+    const double chainage = s.chainage_m + ahead_of_front_;
+    const track::Block& b = route_.blockAt(chainage);
+    return {s.t_ns, s.p_world + r * arm, s.v_world + r * s.w_body.cross(arm),
+            b.type == track::BlockType::kTunnel && chainage >= b.chainage_begin_m &&
+                chainage <= b.chainage_end_m};
+  }
+
+  void write(std::int64_t k, AntennaTruth& a) override {
+    const positioning::GnssErrors e = errors_.step(static_cast<std::uint64_t>(k));
+    if (!outage_.fix(a.t_ns, a.in_tunnel)) {
+      csv_->write(fmt::format("{},0,,,,,,\n", a.t_ns));
+      return;
+    }
+    // Errors are east/north/up at the antenna; the anchor frame's axes differ from the local
+    // ones by the angle subtended at the Earth's centre, which rotateAnchorFromLocalEnu gives.
+    const Eigen::Matrix3d r_anchor_local = anchor_.rotationAnchorFromLocalEnu(a.p_world);
+    const GeodeticPoint g = anchor_.fromEnu(a.p_world + r_anchor_local * e.position_m);
+    const Eigen::Vector3d v = r_anchor_local.transpose() * a.v_world + e.velocity_m_s;
+    csv_->write(fmt::format("{},1,{:.10f},{:.10f},{:.4f},{:.4f},{:.4f},{:.4f}\n", a.t_ns,
+                            g.latitude_deg, g.longitude_deg, g.height_m, v.x(), v.y(), v.z()));
+  }
+
+  const Trajectory& trajectory_;
+  const GeodeticAnchor& anchor_;
+  const track::Route& route_;
   std::string name_;
   TimeNs period_;
-  GeodeticAnchor anchor_;
-  const track::Route& route_;
-  RandomStream rnd_;
-  Eigen::Vector3d antenna_, sigma_;
-  double white_ = 0, vel_sigma_ = 0, vel_gm_sigma_ = 0, phi_ = 0, ahead_of_front_ = 0;
-  TimeNs reacquire_ns_ = 0;
-  std::array<double, 3> gm_{};
-  std::array<double, 3> vel_gm_{};
-  bool started_ = false;
-  TimeNs last_tunnel_ns_ = -1;
+  Mount mount_;
+  double ahead_of_front_;
+  positioning::GnssErrorModel errors_;
+  positioning::GnssOutage outage_;
   io::AppendFile* csv_ = nullptr;
 };
 
 // ---------------------------------------------------------------------------------------
-// Odometer: the encoder sees the wheel turn (1 + ε)·ds (+ slip or slide during an episode);
-// pulses are counted on whole pulses of π D / N; distance = pulses · π D / N and speed is the
-// pulse difference over the period.
+// Odometer: the front pivot's distance along the track and the acceleration (render); the
+// encoder and its slip episodes (commit). Every axle of the rigid train runs the same
+// distance, so the odometer has no mount.
 
-class OdometerSensor final : public Sensor {
+struct WheelTruth {
+  TimeNs t_ns = 0;
+  double distance_m = 0.0;
+  double accel_m_s2 = 0.0;
+};
+
+class OdometerSensor final : public SensorOf<WheelTruth> {
  public:
   explicit OdometerSensor(const SensorSetup& setup)
-      : name_(setup.config.at("name").get<std::string>()),
-        period_(setup.config.at("period_ns").get<TimeNs>()),
-        rnd_(setup.scenario.seed(), name_ + ".odometer") {
-    const Json& c = setup.config;
-    pulse_m_ = std::numbers::pi * c.at("wheel_diameter_m").get<double>() /
-               c.at("pulses_per_revolution").get<double>();
-    scale_error_ = c.at("scale_error").get<double>();
+      : trajectory_(setup.context.trajectory),
+        name_(readSensorName(setup.config)),
+        period_(readPeriod(setup.config)),
+        model_(spec(setup.config), period_,
+               RandomStream(setup.context.scenario.seed(), name_ + ".odometer")) {}
+
+  static positioning::OdometerSpec spec(const Json& c) {
+    positioning::OdometerSpec o;
+    o.wheel_diameter_m = c.at("wheel_diameter_m").get<double>();
+    o.pulses_per_revolution = c.at("pulses_per_revolution").get<int>();
+    o.scale_error = c.at("scale_error").get<double>();
     const Json& slip = c.at("slip");
-    slip_on_ = slip.at("enabled").get<bool>();
-    accel_threshold_ = slip.at("accel_threshold_m_s2").get<double>();
-    brake_threshold_ = slip.at("brake_threshold_m_s2").get<double>();
-    rate_ = slip.at("rate_per_s").get<double>();
-    dur_min_ = slip.at("duration_min_s").get<double>();
-    dur_max_ = slip.at("duration_max_s").get<double>();
-    mag_max_ = slip.at("magnitude_max").get<double>();
+    o.slip.enabled = slip.at("enabled").get<bool>();
+    o.slip.accel_threshold_m_s2 = slip.at("accel_threshold_m_s2").get<double>();
+    o.slip.brake_threshold_m_s2 = slip.at("brake_threshold_m_s2").get<double>();
+    o.slip.rate_per_s = slip.at("rate_per_s").get<double>();
+    o.slip.duration_min_s = slip.at("duration_min_s").get<double>();
+    o.slip.duration_max_s = slip.at("duration_max_s").get<double>();
+    o.slip.magnitude_max = slip.at("magnitude_max").get<double>();
+    return o;
   }
+
   std::string name() const override { return name_; }
   std::string kind() const override { return "odometer"; }
   TimeNs period() const override { return period_; }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     csv_ = &writer.appendFile(sequenceFile(writer, name_));
-    if (state.is_null()) {
+    if (state.is_null())
       csv_->write("t_ns,pulses,distance_m,speed_m_s,slip\n");
-    } else {
-      encoder_m_ = state.at("encoder_m").get<double>();
-      last_u_ = state.at("last_u").get<double>();
-      last_pulses_ = state.at("last_pulses").get<std::int64_t>();
-      episode_end_ns_ = state.at("episode_end_ns").get<TimeNs>();
-      episode_factor_ = state.at("episode_factor").get<double>();
-      started_ = true;
-    }
+    else
+      model_.restore(state);
   }
-
-  void capture(std::int64_t k, const TrajectorySample& s) override {
-    if (!started_) {
-      last_u_ = s.distance_m;
-      started_ = true;
-    }
-    // Slip (traction) and slide (braking) episodes start only under high acceleration.
-    if (slip_on_ && s.t_ns >= episode_end_ns_) {
-      episode_factor_ = 0.0;
-      const auto u = rnd_.uniform4(static_cast<std::uint64_t>(k));
-      const bool traction = s.accel_m_s2 > accel_threshold_;
-      const bool braking = s.accel_m_s2 < -brake_threshold_;
-      if ((traction || braking) && u[0] < rate_ * toSeconds(period_)) {
-        const double magnitude = 0.02 + (mag_max_ - 0.02) * u[1];
-        episode_factor_ = traction ? magnitude : -std::min(magnitude, 0.9);
-        episode_end_ns_ = s.t_ns + fromSeconds(dur_min_ + (dur_max_ - dur_min_) * u[2]);
-      }
-    }
-    const double ds = s.distance_m - last_u_;
-    last_u_ = s.distance_m;
-    encoder_m_ += (1.0 + scale_error_) * (1.0 + episode_factor_) * ds;
-    const auto pulses = static_cast<std::int64_t>(std::floor(encoder_m_ / pulse_m_));
-    const double speed = static_cast<double>(pulses - last_pulses_) * pulse_m_ / toSeconds(period_);
-    last_pulses_ = pulses;
-    const int flag = episode_factor_ > 0 ? 1 : episode_factor_ < 0 ? -1 : 0;
-    csv_->write(fmt::format("{},{},{:.6f},{:.6f},{}\n", s.t_ns, pulses,
-                            static_cast<double>(pulses) * pulse_m_, k == 0 ? 0.0 : speed, flag));
-  }
-
-  nlohmann::json state() const override {
-    return {{"encoder_m", encoder_m_},
-            {"last_u", last_u_},
-            {"last_pulses", last_pulses_},
-            {"episode_end_ns", episode_end_ns_},
-            {"episode_factor", episode_factor_}};
-  }
+  nlohmann::json state() const override { return model_.state(); }
 
  private:
+  WheelTruth read(std::int64_t k) const override {
+    const TrajectorySample s = trajectory_.sample(k);
+    return {s.t_ns, s.distance_m, s.accel_m_s2};
+  }
+
+  void write(std::int64_t k, WheelTruth& w) override {
+    const positioning::OdometerReading r =
+        model_.step(static_cast<std::uint64_t>(k), w.t_ns, w.distance_m, w.accel_m_s2);
+    csv_->write(fmt::format("{},{},{:.6f},{:.6f},{}\n", w.t_ns, r.pulses, r.distance_m, r.speed_m_s,
+                            r.slip));
+  }
+
+  const Trajectory& trajectory_;
   std::string name_;
   TimeNs period_;
-  RandomStream rnd_;
-  double pulse_m_ = 0, scale_error_ = 0;
-  bool slip_on_ = false;
-  double accel_threshold_ = 0, brake_threshold_ = 0, rate_ = 0, dur_min_ = 0, dur_max_ = 0,
-         mag_max_ = 0;
-  double encoder_m_ = 0, last_u_ = 0;
-  std::int64_t last_pulses_ = 0;
-  TimeNs episode_end_ns_ = 0;
-  double episode_factor_ = 0;
-  bool started_ = false;
+  positioning::OdometerModel model_;
   io::AppendFile* csv_ = nullptr;
 };
 
 // ---------------------------------------------------------------------------------------
-// Balise reader: balise groups at fixed spacing along the track (plus one before every
-// station), read by an antenna `antenna_offset_m` ahead of the front pivot. The passage time
-// is found inside the sample interval on the cubic Hermite interpolant of the antenna's
-// distance (exact speeds at both ends), so events carry their own time, not the sample's.
+// Balise reader: the antenna's distance along the track and speed (render); the detector
+// with its passage-time roots (commit). Balises lie along the main track.
 
-struct Balise {
-  int group;
-  int index;
-  double u_m;  // distance along the track (3D), where the antenna reads it
-};
+positioning::BaliseDetector makeDetector(const SensorSetup& setup, const std::string& name) {
+  const Json& c = setup.config;
+  const track::Route& route = requireRoute(setup);
+  positioning::BalisePlacement p;
+  p.first_group_m = c.at("first_group_m").get<double>();
+  p.group_spacing_m = c.at("group_spacing_m").get<double>();
+  p.balises_per_group = c.at("balises_per_group").get<int>();
+  p.balise_spacing_m = c.at("balise_spacing_m").get<double>();
+  p.station_approach_m = c.at("station_approach_m").get<double>();
+  std::vector<double> stations;
+  for (const track::Block& b : route.blocks)
+    if (b.type == track::BlockType::kStation)
+      stations.push_back(route.track.vertical().at(b.chainage_begin_m).distance_m);
+  return positioning::BaliseDetector(
+      positioning::placeBalises(p, route.track.distanceLength(), stations),
+      c.at("detection_sigma_m").get<double>(),
+      RandomStream(setup.context.scenario.seed(), name + ".balises"));
+}
 
-class BaliseReader final : public Sensor {
+class BaliseReader final : public SensorOf<positioning::AntennaState> {
  public:
   explicit BaliseReader(const SensorSetup& setup)
-      : name_(setup.config.at("name").get<std::string>()),
-        period_(setup.config.at("period_ns").get<TimeNs>()),
-        rnd_(setup.scenario.seed(), name_ + ".balises") {
-    const Json& c = setup.config;
-    offset_ = c.at("antenna_offset_m").get<double>();
-    accuracy_ = c.at("location_accuracy_m").get<double>();
-    detection_sigma_ = c.at("detection_sigma_m").get<double>();
-    const track::Route& route = requireRoute(setup, "balise");
-    const double end = route.track.distanceLength();
-    const double spacing = c.at("group_spacing_m").get<double>();
-    const int per_group = c.at("balises_per_group").get<int>();
-    const double within = c.at("balise_spacing_m").get<double>();
-    std::vector<double> groups;
-    for (double u = c.at("first_group_m").get<double>(); u + within * per_group < end; u += spacing)
-      groups.push_back(u);
-    const double approach = c.at("station_approach_m").get<double>();
-    if (approach > 0.0)
-      for (const track::Block& b : route.blocks)
-        if (b.type == track::BlockType::kStation) {
-          const double u = route.track.vertical().at(b.chainage_begin_m).distance_m - approach;
-          if (u > 0.0)
-            groups.push_back(u);
-        }
-    std::sort(groups.begin(), groups.end());
-    for (std::size_t g = 0; g < groups.size(); ++g)
-      for (int i = 0; i < per_group; ++i)
-        balises_.push_back({static_cast<int>(g), i, groups[g] + within * i});
-  }
+      : trajectory_(setup.context.trajectory),
+        name_(readSensorName(setup.config)),
+        period_(readPeriod(setup.config)),
+        ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), readMount(setup.config))),
+        confidence_m_(setup.config.at("location_accuracy_m").get<double>() +
+                      3.0 * setup.config.at("detection_sigma_m").get<double>()),
+        detector_(makeDetector(setup, name_)) {}
+
   std::string name() const override { return name_; }
   std::string kind() const override { return "balise_reader"; }
   TimeNs period() const override { return period_; }
-  const std::vector<Balise>& balises() const { return balises_; }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     csv_ = &writer.appendFile(sequenceFile(writer, name_));
-    if (state.is_null()) {
+    if (state.is_null())
       csv_->write("t_ns,group_id,balise_index,position_m,confidence_m\n");
-    } else {
-      prev_ = {state.at("t_ns").get<TimeNs>(), state.at("u").get<double>(),
-               state.at("v").get<double>()};
-      next_ = state.at("next").get<std::size_t>();
-      started_ = true;
-    }
+    else
+      detector_.restore(state);
   }
-
-  void capture(std::int64_t, const TrajectorySample& s) override {
-    const Point cur{s.t_ns, s.distance_m + offset_, s.speed_m_s};
-    if (!started_) {
-      // Balises behind the antenna at the start are never passed.
-      while (next_ < balises_.size() && balises_[next_].u_m <= cur.u)
-        ++next_;
-      started_ = true;
-      prev_ = cur;
-      return;
-    }
-    while (next_ < balises_.size()) {
-      const Balise& b = balises_[next_];
-      // Detected where the antenna is at the balise plus the detection error.
-      const double err = detection_sigma_ * rnd_.normal4(static_cast<std::uint64_t>(next_))[0];
-      const double at = b.u_m + err;
-      if (at > cur.u)
-        break;
-      const TimeNs t = passage(prev_, cur, std::max(at, prev_.u));
-      csv_->write(fmt::format("{},{},{},{:.3f},{:.3f}\n", t, b.group, b.index, b.u_m,
-                              accuracy_ + 3.0 * detection_sigma_));
-      ++next_;
-    }
-    prev_ = cur;
-  }
-
-  nlohmann::json state() const override {
-    return {{"t_ns", prev_.t_ns}, {"u", prev_.u}, {"v", prev_.v}, {"next", next_}};
-  }
+  nlohmann::json state() const override { return detector_.state(); }
 
  private:
-  struct Point {
-    TimeNs t_ns = 0;
-    double u = 0.0, v = 0.0;
-  };
-
-  // Time at which the Hermite cubic through (t0, u0, v0) and (t1, u1, v1) reaches `target`.
-  static TimeNs passage(const Point& a, const Point& b, double target) {
-    const double h = toSeconds(b.t_ns - a.t_ns);
-    auto u = [&](double x) {
-      const double x2 = x * x, x3 = x2 * x;
-      return (2 * x3 - 3 * x2 + 1) * a.u + (x3 - 2 * x2 + x) * h * a.v + (-2 * x3 + 3 * x2) * b.u +
-             (x3 - x2) * h * b.v;
-    };
-    double lo = 0.0, hi = 1.0;
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (u(mid) < target ? lo : hi) = mid;
-    }
-    return a.t_ns + static_cast<TimeNs>(std::llround(hi * static_cast<double>(b.t_ns - a.t_ns)));
+  positioning::AntennaState read(std::int64_t k) const override {
+    const TrajectorySample s = trajectory_.sample(k);
+    return {s.t_ns, s.distance_m + ahead_of_front_, s.speed_m_s};
   }
 
+  void write(std::int64_t, positioning::AntennaState& now) override {
+    for (const positioning::BaliseEvent& e : detector_.step(now))
+      csv_->write(fmt::format("{},{},{},{:.3f},{:.3f}\n", e.t, e.balise->group, e.balise->index,
+                              e.balise->u_m, confidence_m_));
+  }
+
+  const Trajectory& trajectory_;
   std::string name_;
   TimeNs period_;
-  RandomStream rnd_;
-  double offset_ = 0, accuracy_ = 0, detection_sigma_ = 0;
-  std::vector<Balise> balises_;
-  std::size_t next_ = 0;
-  Point prev_;
-  bool started_ = false;
+  double ahead_of_front_;
+  double confidence_m_;
+  positioning::BaliseDetector detector_;
   io::AppendFile* csv_ = nullptr;
 };
 
 scenario::Param period(TimeNs default_ns, const std::string& what) {
-  return scenario::integer("period_ns", default_ns, "ns", what)
-      .range(100'000, 60'000'000'000)
-      .multipleOf("trajectory.sample_period_ns");
+  return declarePeriod(default_ns, 100'000, 60'000'000'000, what);
 }
 
 }  // namespace
@@ -370,12 +266,9 @@ scenario::Param period(TimeNs default_ns, const std::string& what) {
 scenario::Param declareGnss() {
   return object(
       "gnss", "A GNSS receiver: latitude/longitude/height and velocity with correlated errors.",
-      {scenario::string("name", "gnss", "Sensor name: file <name>.csv"),
+      {declareSensorName("gnss", "<name>.csv"),
        period(1'000'000'000, "Fix period (1 Hz by default)"),
-       object("antenna", "Antenna position relative to the body reference point (body axes)",
-              {number("x_m", 0, "m", "Forward").range(-100, 100),
-               number("y_m", 0, "m", "Left").range(-10, 10),
-               number("z_m", 4.0, "m", "Up").range(-10, 10)}),
+       declareMount("Antenna phase centre (its attitude does not matter)", {0.0, 0.0, 4.0}),
        number("horizontal_sigma_m", 1.5, "m", "Gauss-Markov horizontal error, 1 sigma per axis")
            .range(0, 1000),
        number("vertical_sigma_m", 3.0, "m", "Gauss-Markov vertical error, 1 sigma").range(0, 1000),
@@ -394,7 +287,7 @@ scenario::Param declareGnss() {
 scenario::Param declareOdometer() {
   return object(
       "odometer", "A wheel encoder: pulses, distance and speed.",
-      {scenario::string("name", "odometer", "Sensor name: file <name>.csv"),
+      {declareSensorName("odometer", "<name>.csv"),
        period(10'000'000, "Output period (100 Hz by default)"),
        number("wheel_diameter_m", 0.92, "m", "Nominal wheel diameter").range(0.3, 2.0),
        scenario::integer("pulses_per_revolution", 200, "", "Encoder pulses per wheel turn")
@@ -420,10 +313,11 @@ scenario::Param declareOdometer() {
 scenario::Param declareBaliseReader() {
   return object(
       "balise_reader", "Balise groups along the main track and the train's reader.",
-      {scenario::string("name", "balises", "Sensor name: file <name>.csv"),
+      {declareSensorName("balises", "<name>.csv"),
        period(10'000'000, "Reader polling period (events carry their own time)"),
-       number("antenna_offset_m", 2.0, "m", "Reader antenna ahead of the front bogie pivot")
-           .range(-50, 50),
+       declareMount("Reader antenna under the carbody; a balise is read when the antenna's "
+                    "x passes it (2 m ahead of the front bogie pivot by default)",
+                    {10.75, 0.0, -0.5}),
        number("first_group_m", 200, "m", "Distance of the first group from the route start")
            .range(0, 1e7),
        number("group_spacing_m", 1000, "m", "Distance between balise groups").range(10, 1e6),

@@ -242,6 +242,7 @@ Schema buildSchema() {
     kinds.push_back(array(kind.key, kind.description, kind.declare()));
   }
   s.add(object("sensors", "Simulated sensors, a list per kind.", std::move(kinds)));
+  s.addCheck(checkSensorNames);
   return s;
 }
 

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <map>
 
 #include "imu_sensor.hpp"
 #include "positioning_sensors.hpp"
+#include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::sim {
 
@@ -18,38 +21,92 @@ namespace trainsim::sim {
 //   2. Give it a `scenario::Param declareX()` (an object(...) with the sensor's parameters,
 //      units in the names, the period declared with .multipleOf("trajectory.sample_period_ns"))
 //      and a `std::unique_ptr<Sensor> createX(const SensorSetup&)`.
-//   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX}.
+//   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX,
+//      kXFiles}, where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv).
 // The schema (sensors.<key>[]), validation, `trainsim schema`, docs/SCENARIO.md, the studio's
 // panels and the run loop pick the new kind up from this table; nothing else changes.
 //
 // The frame clock that writes times.txt and poses.txt is not a registered kind: every
 // dataset has exactly one (frame_clock.hpp).
 namespace {
+constexpr const char* kImuFiles[] = {"{}.csv", "{}_truth.csv"};
+constexpr const char* kCsvFile[] = {"{}.csv"};
 constexpr std::array<SensorKind, 4> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
-               &createImu},
-    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss},
-    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer},
+               &createImu, kImuFiles},
+    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, kCsvFile},
+    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, kCsvFile},
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
-               &declareBaliseReader, &createBaliseReader},
+               &declareBaliseReader, &createBaliseReader, kCsvFile},
 };
+
+// Files the run writes into the sequence folder itself; no sensor file may take their names.
+constexpr const char* kReservedFiles[] = {"times.txt", "poses.txt", "calib.txt"};
+
+bool safeFileName(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-')
+    return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
+  });
+}
 }  // namespace
 
 std::span<const SensorKind> sensorKinds() {
   return kSensorKinds;
 }
 
-std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario,
-                                                   const track::Route* route) {
+SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
+                                const track::Route* route, const track::Layout* layout) {
+  return SensorContext{scenario,
+                       GeodeticAnchor({scenario.get<double>("geodetic_origin.latitude_deg"),
+                                       scenario.get<double>("geodetic_origin.longitude_deg"),
+                                       scenario.get<double>("geodetic_origin.height_m")}),
+                       trajectory, route, layout};
+}
+
+std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {
   std::vector<std::unique_ptr<Sensor>> sensors;
   for (const SensorKind& kind : sensorKinds()) {
     const std::string path = fmt::format("sensors.{}", kind.key);
-    const scenario::Json& list = scenario.at(path);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      sensors.push_back(kind.create(SensorSetup{scenario, list[i], i, route}));
-    }
+    const scenario::Json& list = context.scenario.at(path);
+    for (std::size_t i = 0; i < list.size(); ++i)
+      sensors.push_back(
+          kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i), i}));
   }
   return sensors;
+}
+
+void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
+  std::map<std::string, std::string> names, files;  // name or file -> JSON path of its sensor
+  for (const char* reserved : kReservedFiles)
+    files[reserved] = "the dataset";
+  for (const SensorKind& kind : sensorKinds()) {
+    const scenario::Json& list = resolved.at("sensors").at(kind.key);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string path = fmt::format("sensors.{}[{}]", kind.key, i);
+      const std::string name = readSensorName(list[i]);
+      if (!safeFileName(name)) {
+        problems.push_back(
+            {path + ".name", fmt::format("'{}' is not a safe file name: use 1 to 64 letters, "
+                                         "digits, '_', '-' or '.', not starting with '.' or '-'",
+                                         name)});
+        continue;
+      }
+      if (const auto [it, fresh] = names.emplace(name, path); !fresh) {
+        problems.push_back(
+            {path + ".name", fmt::format("'{}' is already the name of {}", name, it->second)});
+        continue;
+      }
+      for (const char* pattern : kind.files) {
+        const std::string file = fmt::format(fmt::runtime(pattern), name);
+        if (const auto [it, fresh] = files.emplace(file, path); !fresh)
+          problems.push_back({path + ".name", fmt::format("'{}' would write {}, which {} writes",
+                                                          name, file, it->second)});
+      }
+    }
+  }
 }
 
 }  // namespace trainsim::sim

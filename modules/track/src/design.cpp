@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "trainsim/core/frames.hpp"
 #include "trainsim/track/route.hpp"
 
 namespace trainsim::track {
 namespace {
 
-constexpr double kGravity_m_s2 = 9.80665;
 constexpr double kNoCantBelow_m_s = 40.0 / 3.6;  // rail-imu-reference.md §1.2 (Bane NOR)
 
 double kmh(double v) {
@@ -36,13 +36,13 @@ std::string_view blockTypeName(BlockType type) {
 }
 
 double DesignRules::equilibriumCant(double v, double radius_m) const {
-  return kCantBase_m * v * v / (kGravity_m_s2 * std::abs(radius_m));
+  return kCantBase_m * v * v / (kStandardGravity_m_s2 * std::abs(radius_m));
 }
 
 double DesignRules::minRadius(double v) const {
   // Below 40 km/h curves get no cant (appliedCant), so only the deficiency is available.
   const double cant = v < kNoCantBelow_m_s ? 0.0 : max_cant_m;
-  return kCantBase_m * v * v / (kGravity_m_s2 * (cant + max_cant_deficiency_m));
+  return kCantBase_m * v * v / (kStandardGravity_m_s2 * (cant + max_cant_deficiency_m));
 }
 
 double DesignRules::appliedCant(double v, double radius_m) const {
@@ -55,8 +55,8 @@ double DesignRules::appliedCant(double v, double radius_m) const {
 }
 
 double DesignRules::curveSpeed(double radius_m, double cant_m) const {
-  return std::sqrt((std::abs(cant_m) + max_cant_deficiency_m) * kGravity_m_s2 * std::abs(radius_m) /
-                   kCantBase_m);
+  return std::sqrt((std::abs(cant_m) + max_cant_deficiency_m) * kStandardGravity_m_s2 *
+                   std::abs(radius_m) / kCantBase_m);
 }
 
 double DesignRules::minTransitionLength(double v, double cant_change_m,

@@ -6,11 +6,10 @@
 #include <cmath>
 
 #include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
 
 namespace trainsim::track {
 namespace {
-
-constexpr double kGravity_m_s2 = 9.80665;
 
 // Jerk-limited change of speed from rest-acceleration to rest-acceleration.
 struct Change {
@@ -82,7 +81,8 @@ double maxUphill(const Route& route, double s0, double s1) {
 double TrainDynamics::availableAccel(double v, double sin_grade) const {
   const double traction = std::min(max_traction_n, max_power_w / std::max(v, 1e-6));
   const double resistance = davis_a_n + davis_b_n_s_m * v + davis_c_n_s2_m2 * v * v;
-  return (traction - resistance) / (mass_kg * rotating_mass_factor) - kGravity_m_s2 * sin_grade;
+  return (traction - resistance) / (mass_kg * rotating_mass_factor) -
+         kStandardGravity_m_s2 * sin_grade;
 }
 
 double SpeedLimit::at(double u) const {

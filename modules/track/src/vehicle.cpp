@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "trainsim/core/frames.hpp"
+
 namespace trainsim::track {
 namespace {
 
@@ -61,10 +63,7 @@ BodyState bodyState(const Track& track, const VehicleGeometry& geometry, const M
 
   const double sf = std::sin(b.roll_rad), cf = std::cos(b.roll_rad);
   const double st = std::sin(b.pitch_rad), ct = std::cos(b.pitch_rad);
-  b.r_world_body = (Eigen::AngleAxisd(b.yaw_rad, Eigen::Vector3d::UnitZ()) *
-                    Eigen::AngleAxisd(-b.pitch_rad, Eigen::Vector3d::UnitY()) *
-                    Eigen::AngleAxisd(b.roll_rad, Eigen::Vector3d::UnitX()))
-                       .toRotationMatrix();
+  b.r_world_body = attitude(b.yaw_rad, b.pitch_rad, b.roll_rad);
   // ω_body for R = Rz(ψ) Ry(−θ) Rx(φ), and its time derivative.
   const double fd = roll_rate, td = pitch_rate, pd = yaw_rate;
   b.w_body = {fd + pd * st, -td * cf + pd * ct * sf, td * sf + pd * ct * cf};

@@ -38,6 +38,9 @@ struct Param {
   /// For integer time periods: the path of the integer parameter this one must be a positive
   /// whole multiple of (sensor periods are multiples of the trajectory period T_S).
   std::string multiple_of;
+  /// For strings inside array items: when omitted, item i > 0 defaults to
+  /// "<default>_<i>" (sensor names: imu, imu_1, imu_2, ...), so defaults stay unique.
+  bool numbered_per_item = false;
 
   Param& range(std::optional<double> lo, std::optional<double> hi) {
     minimum = lo;
@@ -46,6 +49,10 @@ struct Param {
   }
   Param& multipleOf(std::string path) {
     multiple_of = std::move(path);
+    return *this;
+  }
+  Param& numberedPerItem() {
+    numbered_per_item = true;
     return *this;
   }
   Param& maxItems(std::size_t n) {

@@ -5,14 +5,21 @@
 
 namespace trainsim::sim {
 
+/// One frame's lines of times.txt and poses.txt.
+struct FrameLines {
+  std::string time;
+  std::string pose;
+};
+
 /// The dataset's frame clock: at every frame (dataset.frame_period_ns) it writes one line to
 /// sequences/NN/times.txt (seconds since the start, fixed point, exact to the nanosecond) and
 /// one to poses.txt (KITTI odometry convention: the 3x4 row-major pose of the camera-0 frame
 /// at this frame, expressed in the camera-0 frame of frame 0).
 ///
 /// Camera axes follow KITTI: x right, y down, z forward. Until cameras exist, camera 0 is the
-/// body reference point with those axes (body axes: x forward, y left, z up).
-class FrameClock final : public Sensor {
+/// body reference point with those axes (rotationBodyFromKittiCamera, core/frames.hpp).
+
+class FrameClock final : public SensorOf<FrameLines> {
  public:
   FrameClock(TimeNs period, const Trajectory& trajectory);
 
@@ -20,12 +27,12 @@ class FrameClock final : public Sensor {
   std::string kind() const override { return "frames"; }
   TimeNs period() const override { return period_; }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
-  void capture(std::int64_t k, const TrajectorySample& sample) override;
-
-  /// Rotation R_body_cam from KITTI camera axes to body axes.
-  static Eigen::Matrix3d rotationBodyFromCamera();
 
  private:
+  FrameLines read(std::int64_t k) const override;
+  void write(std::int64_t k, FrameLines& lines) override;
+
+  const Trajectory& trajectory_;
   TimeNs period_;
   Eigen::Isometry3d T_cam0_world_first_;  // inverse pose of camera 0 at frame 0
   io::AppendFile* times_ = nullptr;

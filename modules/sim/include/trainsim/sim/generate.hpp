@@ -33,6 +33,8 @@ struct GenerateReport {
     std::int64_t readings;
   };
   std::vector<Output> outputs;
+  int threads = 0;         ///< worker threads of the run loop
+  int render_threads = 0;  ///< of which actually rendered readings
   /// Pipeline stages that did not run because they are not built yet, with the reason.
   std::vector<std::string> not_run;
 };

@@ -25,9 +25,11 @@ class TrainTrajectory final : public Trajectory {
 
   TimeNs samplePeriod() const override { return period_; }
   std::int64_t sampleCount() const override { return count_; }
-  TrajectorySample sample(std::int64_t k) const override;
+  TrajectorySample at(TimeNs t) const override;
 
   track::MotionState motion(std::int64_t k) const;
+  /// The motion at time t, clamped to [0, endTime()].
+  track::MotionState motionAt(TimeNs t) const;
   /// The body on its bogies for a motion state (e.g. motion(k)).
   track::BodyState body(const track::MotionState& m) const;
   const Eigen::Vector3d& referencePoint() const { return reference_; }

@@ -1,32 +1,48 @@
 #pragma once
 
+#include <any>
 #include <cstdint>
 #include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/time.hpp"
 #include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/scenario/scenario.hpp"
 #include "trainsim/sim/trajectory.hpp"
+#include "trainsim/track/layout.hpp"
 #include "trainsim/track/route.hpp"
 
 namespace trainsim::sim {
 
-/// A simulated sensor driven by the movement system. It fires at every trajectory sample whose
-/// time is a multiple of its period (itself a multiple of T_S, checked by the scenario schema)
-/// and writes its output through the DatasetWriter.
+/// What a sensor's render() computed for one reading, handed to its commit(): any movable,
+/// copyable value (a struct of truth values, a point cloud, an image).
+using Reading = std::any;
+
+/// A simulated sensor driven by the run loop (movement.hpp). It fires at every trajectory
+/// sample k whose time k * T_S is a multiple of its period (itself a multiple of T_S, checked
+/// by the scenario schema). Each reading is made in two steps:
 ///
-/// Resume contract: everything a sensor draws at a sample must be a pure function of the
-/// scenario, the seed and the sample index (use RandomStream keyed by the sample index), or be
-/// carried in state(), which the movement system stores at each checkpoint and hands back to
-/// begin() when a run is resumed.
+///  - render(k) computes the reading from the trajectory and the sensor's context. It must be
+///    pure and thread-safe: the run loop calls it for several samples and sensors at once, on
+///    any of its worker threads and in any order. This is where the heavy work goes (ray
+///    casting, rendering, truth kinematics).
+///  - commit(k, reading) runs on one thread at a time, in sample order and, within a sample,
+///    in sensor order. It applies whatever depends on earlier readings (Gauss–Markov states,
+///    encoders, random walks) and writes the output through the DatasetWriter.
+///
+/// So the output bytes never depend on the number of threads, and writing overlaps computing.
+///
+/// Resume contract: everything commit() draws must be a pure function of the scenario, the
+/// seed and the sample index (RandomStream keyed by the index), or be carried in state(),
+/// which the run loop stores at each checkpoint and hands back to begin() when resuming.
 class Sensor {
  public:
   virtual ~Sensor() = default;
 
-  /// Unique name used in logs, the manifest and random stream names ("imu0", "frames").
+  /// Unique name used for files, logs, the manifest and random stream names ("imu", "frames").
   virtual std::string name() const = 0;
   /// Registry kind ("imu", "lidar"), or "frames" for the built-in frame clock.
   virtual std::string kind() const = 0;
@@ -35,23 +51,50 @@ class Sensor {
   /// Opens the sensor's files. `state` is null for a fresh run, or what state() returned at
   /// the checkpoint being resumed.
   virtual void begin(io::DatasetWriter& writer, const nlohmann::json& state) = 0;
-  /// Produces the reading of trajectory sample `k` (t = k * T_S).
-  virtual void capture(std::int64_t k, const TrajectorySample& sample) = 0;
-  /// The state needed to continue after the last captured sample (null if stateless).
+  /// The reading of trajectory sample k (t = k * T_S). Pure and thread-safe (see above).
+  virtual Reading render(std::int64_t k) const = 0;
+  /// Writes the reading of sample k; called in sample order after begin().
+  virtual void commit(std::int64_t k, Reading& reading) = 0;
+  /// The state needed to continue after the last committed sample (null if stateless).
   virtual nlohmann::json state() const { return nullptr; }
   /// Closes the sensor after the last sample of a complete run.
   virtual void end() {}
 };
 
-/// What a sensor factory gets: the resolved scenario, the sensor's own resolved section
-/// (e.g. sensors.imus[0]) and its index within its kind.
-struct SensorSetup {
+/// A Sensor whose readings are of type R: implement read(k) (pure) and write(k, R&).
+template <typename R>
+class SensorOf : public Sensor {
+ public:
+  Reading render(std::int64_t k) const final { return Reading(read(k)); }
+  void commit(std::int64_t k, Reading& reading) final { write(k, std::any_cast<R&>(reading)); }
+
+ protected:
+  /// Pure and thread-safe: the reading of sample k.
+  virtual R read(std::int64_t k) const = 0;
+  /// In sample order: applies sequential state and writes.
+  virtual void write(std::int64_t k, R& reading) = 0;
+};
+
+/// What the sensors of one run share, built once per run (sensor_registry.hpp,
+/// makeSensorContext) instead of by each sensor: the scenario, the geodetic anchor, the
+/// trajectory, and the planned route and layout (null when a sensor runs on a synthetic
+/// trajectory). Later the scene joins it. Everything here is immutable during the run, so
+/// render() may read it from any thread.
+struct SensorContext {
   const scenario::Scenario& scenario;
-  const scenario::Json& config;
-  std::size_t index;
-  /// The planned main route (tunnels for GNSS, balise placement), or null when a sensor runs
-  /// on a synthetic trajectory.
+  GeodeticAnchor anchor;
+  const Trajectory& trajectory;
   const track::Route* route = nullptr;
+  const track::Layout* layout = nullptr;
+};
+
+/// What a sensor factory gets: the run's context, the sensor's own resolved section (e.g.
+/// sensors.imus[0]), its JSON path (for messages) and its index within its kind.
+struct SensorSetup {
+  const SensorContext& context;
+  const scenario::Json& config;
+  std::string path;
+  std::size_t index = 0;
 };
 
 }  // namespace trainsim::sim

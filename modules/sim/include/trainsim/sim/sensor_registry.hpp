@@ -18,13 +18,26 @@ struct SensorKind {
   /// `.multipleOf("trajectory.sample_period_ns")`.
   scenario::Param (*declare)();
   std::unique_ptr<Sensor> (*create)(const SensorSetup& setup);
+  /// The files a sensor of this kind writes in the sequence folder, with "{}" for its name
+  /// ("{}.csv", "{}_truth.csv"); the schema checks that no two sensors share a file.
+  std::span<const char* const> files;
 };
 
 /// The registration table (sensor_registry.cpp), in the order sensors are created and run.
 std::span<const SensorKind> sensorKinds();
 
-/// Creates every sensor configured in a resolved scenario, kind by kind in table order.
-std::vector<std::unique_ptr<Sensor>> createSensors(const scenario::Scenario& scenario,
-                                                   const track::Route* route = nullptr);
+/// The context shared by the sensors of one run (sensor.hpp). `route` and `layout` may be null
+/// (synthetic trajectories).
+SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
+                                const track::Route* route = nullptr,
+                                const track::Layout* layout = nullptr);
+
+/// Creates every sensor configured in the context's scenario, kind by kind in table order.
+/// The sensors keep references into `context`, which must outlive them.
+std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context);
+
+/// Checks sensor names across all kinds: each unique (naming both JSON paths when two clash),
+/// safe as a file name, and no two sensors writing the same file. Appends problems.
+void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Problem>& problems);
 
 }  // namespace trainsim::sim

@@ -25,15 +25,23 @@ struct TrajectorySample {
   double accel_m_s2 = 0.0;  ///< along the track (dv/dt of the front pivot)
 };
 
-/// Ground truth sampled at the fixed period T_S: sample k is at t = k * T_S. The movement
-/// system binds every sensor reading to one of these samples (paper, Movement System).
+/// Ground truth: the train's state at any time in closed form, and the fixed sample clock
+/// T_S that binds sensor readings to it (paper, Movement System): sample k is at t = k * T_S.
 class Trajectory {
  public:
   virtual ~Trajectory() = default;
   virtual TimeNs samplePeriod() const = 0;
   virtual std::int64_t sampleCount() const = 0;
-  /// Sample k, 0 <= k < sampleCount(). Must be a pure function of k (thread-safe).
-  virtual TrajectorySample sample(std::int64_t k) const = 0;
+  /// The state at time t (integer ns), evaluated in closed form, not interpolated between
+  /// samples; frame sensors ask for the pose at each firing instant within a frame. Times
+  /// outside [0, (sampleCount() - 1) * T_S] give the state at the nearer end. Pure and
+  /// thread-safe.
+  virtual TrajectorySample at(TimeNs t) const = 0;
+
+  /// Sample k, 0 <= k < sampleCount(): at(k * T_S), bit for bit.
+  TrajectorySample sample(std::int64_t k) const { return at(k * samplePeriod()); }
+  /// Time of the last sample.
+  TimeNs endTime() const { return (sampleCount() - 1) * samplePeriod(); }
 };
 
 }  // namespace trainsim::sim

@@ -1,0 +1,75 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "trainsim/core/random.hpp"
+#include "trainsim/core/time.hpp"
+
+namespace trainsim::positioning {
+
+/// Error budget of a GNSS receiver, 1 sigma per axis, local east/north/up at the antenna.
+struct GnssErrorSpec {
+  double horizontal_sigma_m = 1.5;      ///< Gauss–Markov position error, east and north
+  double vertical_sigma_m = 3.0;        ///< Gauss–Markov position error, up
+  double correlation_time_s = 120.0;    ///< of every Gauss–Markov term
+  double white_sigma_m = 0.3;           ///< white position noise
+  double velocity_sigma_m_s = 0.05;     ///< white velocity noise
+  double velocity_gm_sigma_m_s = 0.02;  ///< Gauss–Markov velocity error
+};
+
+/// Position and velocity errors of one fix, local east/north/up.
+struct GnssErrors {
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
+};
+
+/// GNSS errors: first-order Gauss–Markov processes (exactly discretised, x' = φ x + σ √(1−φ²) n,
+/// φ = exp(−T/τ)) plus white noise, for position and velocity (rail-imu-reference.md §3,
+/// docs/REFERENCES.md). The first reading starts from the stationary distribution.
+///
+/// Random numbers are keyed by (seed, stream, reading index k), so a run's errors do not
+/// depend on threads or on where it was resumed; the Gauss–Markov states are carried in
+/// state()/restore(). Not thread-safe: step() advances the state, one reading after another.
+class GnssErrorModel {
+ public:
+  GnssErrorModel(const GnssErrorSpec& spec, TimeNs period, RandomStream random);
+
+  /// Advances the Gauss–Markov states to reading k and returns its errors. The processes run
+  /// through outages too (the satellites' geometry does not stop), so call it at every reading.
+  GnssErrors step(std::uint64_t k);
+
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
+
+ private:
+  GnssErrorSpec spec_;
+  RandomStream random_;
+  double phi_;
+  std::array<double, 3> position_gm_{};
+  std::array<double, 3> velocity_gm_{};
+  bool started_ = false;
+};
+
+/// Fix availability: no fix while the antenna is in a tunnel, and none for `reacquisition`
+/// after it leaves one. Carries the time of the last reading inside a tunnel.
+class GnssOutage {
+ public:
+  explicit GnssOutage(TimeNs reacquisition) : reacquisition_(reacquisition) {}
+
+  /// Whether the reading at time t has a fix; `in_tunnel` says where the antenna is then.
+  /// Call in time order.
+  bool fix(TimeNs t, bool in_tunnel);
+
+  TimeNs lastTunnel() const { return last_tunnel_; }  ///< -1 if never in a tunnel
+  void restore(TimeNs last_tunnel) { last_tunnel_ = last_tunnel; }
+
+ private:
+  TimeNs reacquisition_;
+  TimeNs last_tunnel_ = -1;
+};
+
+}  // namespace trainsim::positioning
