@@ -40,8 +40,7 @@ Result run(const trainsim::scenario::Scenario& sc, const trainsim::sim::Trajecto
   const auto t0 = Clock::now();
   const sim::GenerateReport report = sim::runDataset(sc, &traj, std::move(sensors), options);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  Result r{seconds, report.render_threads,
-           io::readFile(options.out / "sequences/00/heavy.csv")};
+  Result r{seconds, report.render_threads, io::readFile(options.out / "sequences/00/heavy.csv")};
   fs::remove_all(options.out);
   return r;
 }
@@ -51,16 +50,15 @@ Result run(const trainsim::scenario::Scenario& sc, const trainsim::sim::Trajecto
 int main() {
   using namespace trainsim;
   const scenario::Scenario sc = sim::loadScenario("");
-  const testing::StraightTrajectory traj(sc.get<TimeNs>("trajectory.sample_period_ns"), 1001,
-                                         30.0);
+  const testing::StraightTrajectory traj(sc.get<TimeNs>("trajectory.sample_period_ns"), 1001, 30.0);
   constexpr std::int64_t kWork = 1'500'000;  // counter-based draws per frame
   run(sc, traj, 1, kWork / 50);              // warm-up
   const Result one = run(sc, traj, 1, kWork);
   fmt::print("run loop, 100 heavy frames + 1000 light readings over 10 s of trajectory\n");
   fmt::print("{:>8} {:>10} {:>10} {:>16} {:>10}\n", "threads", "time [s]", "speed-up",
              "render threads", "bytes");
-  fmt::print("{:>8} {:>10.3f} {:>10.2f} {:>16} {:>10}\n", 1, one.seconds, 1.0,
-             one.render_threads, "baseline");
+  fmt::print("{:>8} {:>10.3f} {:>10.2f} {:>16} {:>10}\n", 1, one.seconds, 1.0, one.render_threads,
+             "baseline");
   for (int threads : {2, 4}) {
     const Result r = run(sc, traj, threads, kWork);
     fmt::print("{:>8} {:>10.3f} {:>10.2f} {:>16} {:>10}\n", threads, r.seconds,

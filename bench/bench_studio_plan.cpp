@@ -41,7 +41,10 @@ int main() {
     const auto sc = scenario::Scenario::resolve(input, sim::scenarioSchema());
     const int runs = km > 50 ? 2 : 5;
     const double plan = bestOf(runs, [&] { (void)sim::makePlan(sc); });
-    const double snap = bestOf(runs, [&] { (void)studio::buildSnapshot(sc); });
+    const double snap = bestOf(runs, [&] {
+      sim::Planner fresh;
+      (void)studio::buildSnapshot(sc, fresh);
+    });
     fmt::print("{:>10.0f} {:>14.1f} {:>16.1f} {:>8.2f}\n", km, plan * 1e3, snap * 1e3, snap / plan);
   }
 }

@@ -185,7 +185,7 @@ void MainWindow::buildMenus() {
     if (!plan_)
       return;
     doc_.beginMacro("Edit route as block list");
-    doc_.setValue("route.blocks", sim::blockListJson(plan_->plan->route.route));
+    doc_.setValue("route.blocks", sim::blockListJson(plan_->plan->route().route));
     doc_.setValue("route.source", "blocks");
     doc_.endMacro();
     form_->reveal("route.blocks");
@@ -249,7 +249,7 @@ void MainWindow::onPlanned(std::shared_ptr<const PlanSnapshot> plan) {
   view2d_->setPlan(plan_);
   inertial_->setPlan(plan_);
   showReport();
-  const auto& main = plan_->plan->route.route;
+  const auto& main = plan_->plan->route().route;
   status_->setText(QString("plan: %1 km, %2 blocks, %3 tracks, %4 violation(s), run %5 s")
                        .arg(main.track.length() / 1000.0, 0, 'f', 2)
                        .arg(main.blocks.size())
@@ -272,7 +272,7 @@ void MainWindow::showReport() {
   if (!plan_error_.isEmpty())
     add({"plan failed", "", "", "", "", plan_error_});
   if (plan_) {
-    for (const track::Violation& v : plan_->plan->violations)
+    for (const track::Violation& v : plan_->plan->violations())
       add({QString::fromStdString(v.rule),
            QString("%1 – %2").arg(v.chainage_begin_m, 0, 'f', 1).arg(v.chainage_end_m, 0, 'f', 1),
            QString::number(v.block_id), QString::number(v.value, 'g', 5),

@@ -51,6 +51,7 @@ class MainWindow : public QMainWindow {
   QProgressBar* progressBar() const { return progress_; }
   RunController* runner() { return &runner_; }
   std::shared_ptr<const PlanSnapshot> plan() const { return plan_; }
+  const PlanService& planService() const { return planner_; }
 
  signals:
   /// The views show a new plan.

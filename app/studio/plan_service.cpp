@@ -52,14 +52,15 @@ Rgb blockColour(const std::string& type) {
   return {40, 160, 60};  // straight
 }
 
-std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario) {
+std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario,
+                                            sim::Planner& planner) {
   auto snap = std::make_unique<PlanSnapshot>();
   snap->scenario = std::make_shared<const scenario::Scenario>(scenario);
-  snap->plan = sim::makePlan(scenario);
+  snap->plan = std::make_unique<sim::Plan>(planner.plan(scenario));
   const sim::Plan& plan = *snap->plan;
   snap->train_length_m = scenario.get<double>("train.length_m");
 
-  for (const track::LayoutTrack& t : plan.layout.tracks) {
+  for (const track::LayoutTrack& t : plan.layout().tracks) {
     TrackLine line{t.id, t.kind, t.polyline, {}};
     line.segment_type.reserve(t.polyline.size());
     for (std::size_t i = 0; i + 1 < t.polyline.size(); ++i)
@@ -67,17 +68,17 @@ std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario) 
     snap->tracks.push_back(std::move(line));
   }
 
-  const track::Track& main = plan.route.route.track;
+  const track::Track& main = plan.route().route.track;
   const double length = main.length();
   const double step = labelStep(length);
   for (double s = 0.0; s <= length + 1e-9; s += step)
     snap->chainage_marks.push_back({s, main.atChainage(std::min(s, length)).position});
-  for (const track::Violation& v : plan.violations) {
+  for (const track::Violation& v : plan.violations()) {
     const double s = std::clamp(0.5 * (v.chainage_begin_m + v.chainage_end_m), 0.0, length);
     snap->violations.push_back({v.rule, v.message, s, main.atChainage(s).position});
   }
 
-  const sim::TrainTrajectory& traj = *plan.trajectory;
+  const sim::TrainTrajectory& traj = plan.trajectory();
   const std::int64_t n = traj.sampleCount();
   const double period_s = static_cast<double>(traj.samplePeriod()) * 1e-9;
   snap->duration_s = static_cast<double>(n - 1) * period_s;
@@ -98,7 +99,7 @@ std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario) 
 }
 
 TrainPose PlanSnapshot::poseAt(double t_s) const {
-  const sim::TrainTrajectory& traj = *plan->trajectory;
+  const sim::TrainTrajectory& traj = plan->trajectory();
   const double period_s = static_cast<double>(traj.samplePeriod()) * 1e-9;
   const auto k = std::clamp<std::int64_t>(std::llround(t_s / period_s), 0, traj.sampleCount() - 1);
   const sim::TrajectorySample s = traj.sample(k);
@@ -131,15 +132,16 @@ void PlanService::launch() {
   running_ = true;
   emit started();
   const std::uint64_t generation = generation_;
-  watcher_.setFuture(QtConcurrent::run([sc = std::move(sc), generation]() -> Outcome {
-    try {
-      std::unique_ptr<PlanSnapshot> snap = buildSnapshot(sc);
-      snap->generation = generation;
-      return {std::shared_ptr<const PlanSnapshot>(std::move(snap)), {}};
-    } catch (const std::exception& e) {
-      return {nullptr, QString::fromStdString(e.what())};
-    }
-  }));
+  watcher_.setFuture(
+      QtConcurrent::run([sc = std::move(sc), generation, planner = planner_]() -> Outcome {
+        try {
+          std::unique_ptr<PlanSnapshot> snap = buildSnapshot(sc, *planner);
+          snap->generation = generation;
+          return {std::shared_ptr<const PlanSnapshot>(std::move(snap)), {}};
+        } catch (const std::exception& e) {
+          return {nullptr, QString::fromStdString(e.what())};
+        }
+      }));
 }
 
 void PlanService::onFinished() {

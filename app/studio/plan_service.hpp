@@ -55,7 +55,7 @@ struct TrainPose {
 struct PlanSnapshot {
   std::uint64_t generation = 0;
   std::shared_ptr<const scenario::Scenario> scenario;
-  std::unique_ptr<sim::Plan> plan;
+  std::unique_ptr<sim::Plan> plan;  ///< shares the planner's immutable stages
   std::vector<TrackLine> tracks;
   std::vector<ViolationMark> violations;
   std::vector<ChainageMark> chainage_marks;
@@ -67,9 +67,11 @@ struct PlanSnapshot {
   TrainPose poseAt(double t_s) const;
 };
 
-/// Builds the snapshot of a resolved scenario (route, layout, motion, trajectory, report).
-/// Throws what sim::makePlan throws.
-std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario);
+/// Builds the snapshot of a resolved scenario (route, layout, motion, trajectory, report),
+/// re-planning through `planner` only the stages the scenario changed. Throws what
+/// sim::Planner::plan throws.
+std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario,
+                                            sim::Planner& planner);
 
 /// Plans scenarios off the GUI thread. Requests are debounced; while one plan runs, only the
 /// newest request is kept and runs next, so the views always end on the latest scenario.
@@ -81,6 +83,8 @@ class PlanService : public QObject {
   ~PlanService() override;
 
   void request(const scenario::Scenario& scenario);
+  /// The planner that keeps the last plan's stages (its build counts, for tests).
+  const sim::Planner& planner() const { return *planner_; }
 
  signals:
   void started();
@@ -95,6 +99,7 @@ class PlanService : public QObject {
   void launch();
   void onFinished();
 
+  std::shared_ptr<sim::Planner> planner_ = std::make_shared<sim::Planner>();
   QTimer debounce_;
   std::optional<scenario::Scenario> pending_;
   QFutureWatcher<Outcome> watcher_;

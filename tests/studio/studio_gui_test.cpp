@@ -147,15 +147,15 @@ class StudioGuiTest : public QObject {
     MainWindow& w = *window_;
     QSignalSpy shown(&w, &MainWindow::planShown);
     // The generated route becomes an editable block list (same geometry).
-    const double length_before = w.plan()->plan->route.route.track.length();
+    const double length_before = w.plan()->plan->route().route.track.length();
     const Eigen::Vector2d end_before = [&] {
-      const auto& t = w.plan()->plan->route.route.track;
+      const auto& t = w.plan()->plan->route().route.track;
       return t.horizontal().at(t.length()).position_m;
     }();
     findAction(&w, "Edit as block list")->trigger();
     QVERIFY(shown.wait(60000));
     QCOMPARE(w.document()->json()["route"]["source"].get<std::string>(), std::string("blocks"));
-    QVERIFY(std::abs(w.plan()->plan->route.route.track.length() - length_before) < 1e-6);
+    QVERIFY(std::abs(w.plan()->plan->route().route.track.length() - length_before) < 1e-6);
     // First curve in the list, and the route block it becomes.
     const auto& blocks = w.document()->json()["route"]["blocks"];
     int curve = -1;
@@ -164,18 +164,18 @@ class StudioGuiTest : public QObject {
         curve = static_cast<int>(i);
     }
     QVERIFY(curve >= 0);
-    const auto& route_blocks = w.plan()->plan->route.route.blocks;
+    const auto& route_blocks = w.plan()->plan->route().route.blocks;
     const double old_radius = std::abs(route_blocks[static_cast<std::size_t>(curve)].radius_m);
     const double new_radius = std::round(old_radius * 1.5);
     const QString field = QString("route.blocks[%1].radius_m").arg(curve);
     shown.clear();
     typeInto(w, field, QString::number(new_radius));
     QVERIFY(shown.wait(60000));
-    const auto& after = w.plan()->plan->route.route.blocks;
+    const auto& after = w.plan()->plan->route().route.blocks;
     QCOMPARE(std::abs(after[static_cast<std::size_t>(curve)].radius_m), new_radius);
     // Same chainage length (arc and transitions are unchanged), different end of line.
     const auto end_of = [&] {
-      const auto& t = w.plan()->plan->route.route.track;
+      const auto& t = w.plan()->plan->route().route.track;
       return t.horizontal().at(t.length()).position_m;
     };
     QVERIFY((end_of() - end_before).norm() > 1.0);
@@ -184,21 +184,23 @@ class StudioGuiTest : public QObject {
     shown.clear();
     w.document()->undoStack()->undo();
     QVERIFY(shown.wait(60000));
-    QCOMPARE(std::abs(w.plan()->plan->route.route.blocks[static_cast<std::size_t>(curve)].radius_m),
-             old_radius);
+    QCOMPARE(
+        std::abs(w.plan()->plan->route().route.blocks[static_cast<std::size_t>(curve)].radius_m),
+        old_radius);
     QCOMPARE(qobject_cast<QLineEdit*>(w.form()->editor(field))->text().toDouble(), old_radius);
     shown.clear();
     w.document()->undoStack()->redo();
     QVERIFY(shown.wait(60000));
-    QCOMPARE(std::abs(w.plan()->plan->route.route.blocks[static_cast<std::size_t>(curve)].radius_m),
-             new_radius);
+    QCOMPARE(
+        std::abs(w.plan()->plan->route().route.blocks[static_cast<std::size_t>(curve)].radius_m),
+        new_radius);
 
     // A radius far below the design minimum: the report's violations appear in both views
     // and in the report table, on that curve.
     shown.clear();
     typeInto(w, field, "300");
     QVERIFY(shown.wait(60000));
-    const auto& violations = w.plan()->plan->violations;
+    const auto& violations = w.plan()->plan->violations();
     QVERIFY(!violations.empty());
     QCOMPARE(w.view3d()->violationCount(), static_cast<int>(violations.size()));
     QCOMPARE(w.view2d()->violationCount(), static_cast<int>(violations.size()));
@@ -210,7 +212,7 @@ class StudioGuiTest : public QObject {
     shown.clear();
     w.document()->undoStack()->undo();
     QVERIFY(shown.wait(60000));
-    QVERIFY(w.plan()->plan->violations.size() < violations.size() || violations.empty());
+    QVERIFY(w.plan()->plan->violations().size() < violations.size() || violations.empty());
   }
 
   void anOutOfRangeValueIsMarkedAtItsField() {
@@ -235,7 +237,28 @@ class StudioGuiTest : public QObject {
     QVERIFY(w.form()->errorAt("layout.track_centre_distance_m").isEmpty());
     QVERIFY(!label->isVisible());
     QVERIFY(shown.wait(60000));
-    QCOMPARE(w.plan()->plan->layout.tracks[1].offset_m, -4.5);
+    QCOMPARE(w.plan()->plan->layout().tracks[1].offset_m, -4.5);
+  }
+
+  void aTrainOrSensorEditDoesNotRebuildTheRouteOrLayout() {
+    MainWindow& w = *window_;
+    const trainsim::sim::Planner& planner = w.planService().planner();
+    const auto route = planner.builds("route"), layout = planner.builds("layout"),
+               motion = planner.builds("motion");
+    QVERIFY(route > 0 && layout > 0 && motion > 0);
+    QSignalSpy shown(&w, &MainWindow::planShown);
+    typeInto(w, "train.max_accel_m_s2", "0.7");
+    QVERIFY(shown.wait(60000));
+    QCOMPARE(planner.builds("route"), route);
+    QCOMPARE(planner.builds("layout"), layout);
+    QCOMPARE(planner.builds("motion"), motion + 1);
+    typeInto(w, "sensors.imus[0].period_ns", "20000000");
+    QTest::qWait(600);
+    QCOMPARE(planner.builds("route"), route);
+    QCOMPARE(planner.builds("layout"), layout);
+    QCOMPARE(planner.builds("motion"), motion + 1);
+    typeInto(w, "train.max_accel_m_s2", "0.8");
+    QVERIFY(shown.wait(60000));
   }
 
   void aRunGoesToTheEndAndTheImuPlotHoldsItsSamples() {
@@ -338,7 +361,7 @@ class StudioGuiTest : public QObject {
     w.document()->setValue("design", trainsim::sim::loadScenario("").json()["design"]);
     QVERIFY(w.document()->problems().empty());
     QVERIFY(shown.wait(60000));
-    QVERIFY(std::abs(w.plan()->plan->route.route.track.length() - 3000.0) < 1e-6);
+    QVERIFY(std::abs(w.plan()->plan->route().route.track.length() - 3000.0) < 1e-6);
 
     // Not JSON at all: nothing is loaded, the current scenario stays.
     const QString garbage = tmp_.filePath("garbage.json");

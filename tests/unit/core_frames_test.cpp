@@ -31,9 +31,9 @@ TEST(Convention, AttitudeRollIsPositiveRightSideDown) {
 
 TEST(Convention, AttitudeAppliesYawThenPitchThenRollIntrinsically) {
   const double yaw = 0.3, pitch = 0.2, roll = -0.1;
-  const Eigen::Matrix3d expected = (Eigen::AngleAxisd(yaw, kZ) * Eigen::AngleAxisd(-pitch, kY) *
-                                    Eigen::AngleAxisd(roll, kX))
-                                       .toRotationMatrix();
+  const Eigen::Matrix3d expected =
+      (Eigen::AngleAxisd(yaw, kZ) * Eigen::AngleAxisd(-pitch, kY) * Eigen::AngleAxisd(roll, kX))
+          .toRotationMatrix();
   EXPECT_LT((attitude(yaw, pitch, roll) - expected).norm(), 1e-15);
 }
 

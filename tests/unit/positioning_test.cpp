@@ -92,7 +92,8 @@ TEST(OdometerModel, CountsWholePulsesOfTheScaledDistance) {
   EXPECT_DOUBLE_EQ(spec.pulseLength_m(), pulse);
   for (int k = 0; k < 1000; ++k) {
     const double s = 0.37 * k;  // 37 m/s
-    const OdometerReading r = model.step(static_cast<std::uint64_t>(k), k * kSecond / 100, 100 + s, 0);
+    const OdometerReading r =
+        model.step(static_cast<std::uint64_t>(k), k * kSecond / 100, 100 + s, 0);
     ASSERT_EQ(r.pulses, static_cast<std::int64_t>(std::floor(1.01 * s / pulse))) << k;
     ASSERT_DOUBLE_EQ(r.distance_m, static_cast<double>(r.pulses) * pulse);
     ASSERT_EQ(r.slip, 0);

@@ -43,8 +43,10 @@ TEST(RunLoop, RendersOnExactlyTheRequestedNumberOfThreadsWithIdenticalBytes) {
     auto gauge = std::make_shared<testing::BusySensor::Gauge>();
     std::vector<std::unique_ptr<Sensor>> sensors;
     // Several milliseconds of work a frame, so every worker gets frames to render.
-    sensors.push_back(std::make_unique<testing::BusySensor>("busy", frame, sc.seed(), 400'000, gauge));
-    sensors.push_back(std::make_unique<testing::NoiseSensor>(traj, "noise", frame / 10, sc.seed(), 16));
+    sensors.push_back(
+        std::make_unique<testing::BusySensor>("busy", frame, sc.seed(), 400'000, gauge));
+    sensors.push_back(
+        std::make_unique<testing::NoiseSensor>(traj, "noise", frame / 10, sc.seed(), 16));
     GenerateOptions options;
     options.out = freshDir("threads" + std::to_string(threads));
     options.threads = threads;
@@ -110,7 +112,8 @@ TEST(SensorNames, ClashesAndUnsafeNamesAreBadInputNamingBothPaths) {
     EXPECT_EQ(p[0].path, "sensors.gnss_receivers[0].name");
   }
   // A name whose files collide with another sensor's: imu "x" writes x_truth.csv.
-  const auto files = problems({{"imus", {{{"name", "x"}}}}, {"gnss_receivers", {{{"name", "x_truth"}}}}});
+  const auto files =
+      problems({{"imus", {{{"name", "x"}}}}, {"gnss_receivers", {{{"name", "x_truth"}}}}});
   ASSERT_EQ(files.size(), 1u);
   EXPECT_NE(files[0].message.find("x_truth.csv"), std::string::npos);
 }

@@ -64,8 +64,8 @@ TEST(Gnss, NoFixInTunnelsAndReacquisitionDelayAfterThem) {
   input["sensors"] = {{"gnss_receivers", {{{"period_ns", 100'000'000}}}}};
   const PlannedRun r = runScenario("gnss", input);
   const auto rows = readCsv(r.out / "sequences/00/gnss.csv");
-  const TrainTrajectory& traj = *r.plan->trajectory;
-  const track::Route& route = r.plan->route.route;
+  const TrainTrajectory& traj = r.plan->trajectory();
+  const track::Route& route = r.plan->route().route;
   const GeodeticAnchor anchor({43.7228, 10.3966, 50.0});
   int tunnels = 0, outside_fix = 0;
   TimeNs last_tunnel = -1;
@@ -108,7 +108,7 @@ TEST(Odometer, DistanceErrorEqualsTheScaleError) {
   input["sensors"] = {{"odometers", {{{"scale_error", 0.012}, {"slip", {{"enabled", false}}}}}}};
   const PlannedRun r = runScenario("odometer", input);
   const auto rows = readCsv(r.out / "sequences/00/odometer.csv");
-  const TrainTrajectory& traj = *r.plan->trajectory;
+  const TrainTrajectory& traj = r.plan->trajectory();
   const double pulse = 3.141592653589793 * 0.92 / 200;
   const double u0 = traj.sample(0).distance_m;
   for (const auto& row : rows) {
@@ -128,7 +128,7 @@ TEST(Odometer, SlipAndSlideStartOnlyUnderHighAcceleration) {
   input["sensors"] = {{"odometers", {{{"slip", {{"rate_per_s", 2.0}}}}}}};
   const PlannedRun r = runScenario("slip", input);
   const auto rows = readCsv(r.out / "sequences/00/odometer.csv");
-  const TrainTrajectory& traj = *r.plan->trajectory;
+  const TrainTrajectory& traj = r.plan->trajectory();
   int starts = 0;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     if (rows[i][4] != "0" && rows[i - 1][4] == "0") {
@@ -148,11 +148,11 @@ TEST(BaliseReader, OneEventPerBaliseAtTheExactPassageTime) {
   input["sensors"] = {{"balise_readers", {{{"detection_sigma_m", 0.0}}}}};
   const PlannedRun r = runScenario("balises", input);
   const auto rows = readCsv(r.out / "sequences/00/balises.csv");
-  const TrainTrajectory& traj = *r.plan->trajectory;
-  const track::MotionProfile& motion = r.plan->motion;
+  const TrainTrajectory& traj = r.plan->trajectory();
+  const track::MotionProfile& motion = r.plan->motion();
   // Expected balises, re-derived from the placement rule: groups of two 3 m apart every
   // 1000 m from 200 m, plus a group 50 m before each station, ahead of the antenna at the start.
-  const track::Route& route = r.plan->route.route;
+  const track::Route& route = r.plan->route().route;
   std::vector<double> groups;
   for (double u = 200; u + 6 < route.track.distanceLength(); u += 1000)
     groups.push_back(u);

@@ -29,7 +29,7 @@ TEST(TrainTrajectory, SampledReferencePointIsConsistentToSecondOrder) {
       {"route", {{"transition_shape", "bloss"}, {"generator", {{"length_m", 5000}}}}},
       {"train", {{"reference_point", {{"x_m", 6.0}, {"y_m", 0.7}, {"z_m", 3.2}}}}}};
   const std::unique_ptr<Plan> plan = planFor(input);
-  const TrainTrajectory& traj = *plan->trajectory;
+  const TrainTrajectory& traj = plan->trajectory();
   const double T = toSeconds(traj.samplePeriod());
   const std::int64_t n = traj.sampleCount();
   ASSERT_GT(n, 1000);
@@ -62,12 +62,12 @@ TEST(TrainTrajectory, SampledReferencePointIsConsistentToSecondOrder) {
   EXPECT_GT(worst_a, 0.0);
   // And the speed is the along-track speed of the front pivot, bounded by the limit in force.
   for (std::int64_t k = 0; k < n; ++k)
-    ASSERT_LE(at(k).speed_m_s, plan->motion.limit().at(traj.motion(k).u_m) + 1e-9);
+    ASSERT_LE(at(k).speed_m_s, plan->motion().limit().at(traj.motion(k).u_m) + 1e-9);
 }
 
 TEST(TrainTrajectory, EndsAtRestAndTimesAreExact) {
   const std::unique_ptr<Plan> plan = planFor(scenario::Json::object());
-  const TrainTrajectory& traj = *plan->trajectory;
+  const TrainTrajectory& traj = plan->trajectory();
   const std::int64_t n = traj.sampleCount();
   EXPECT_EQ(traj.sample(n - 1).t_ns, (n - 1) * traj.samplePeriod());
   EXPECT_EQ(traj.sample(0).speed_m_s, 0.0);
@@ -79,16 +79,16 @@ TEST(BlockScenario, AGeneratedRouteEditedAsBlocksPlansTheSameMainTrack) {
   scenario::Json input = scenario::Json::parse(R"({"route": {"generator": {"length_m": 8000}}})");
   const auto generated = makePlan(scenario::Scenario::resolve(input, scenarioSchema()));
   input["route"]["source"] = "blocks";
-  input["route"]["blocks"] = blockListJson(generated->route.route);
+  input["route"]["blocks"] = blockListJson(generated->route().route);
   const auto rebuilt = makePlan(scenario::Scenario::resolve(input, scenarioSchema()));
-  const track::Route& a = generated->route.route;
-  const track::Route& b = rebuilt->route.route;
+  const track::Route& a = generated->route().route;
+  const track::Route& b = rebuilt->route().route;
   ASSERT_EQ(a.blocks.size(), b.blocks.size());
   EXPECT_NEAR(a.track.length(), b.track.length(), 1e-5);
   const auto ea = a.track.horizontal().at(a.track.length()).position_m;
   const auto eb = b.track.horizontal().at(b.track.length()).position_m;
   EXPECT_LT((ea - eb).norm(), 1e-3);  // lengths were rounded to 1 µm
-  EXPECT_EQ(generated->layout.tracks.size(), rebuilt->layout.tracks.size());
+  EXPECT_EQ(generated->layout().tracks.size(), rebuilt->layout().tracks.size());
 }
 
 TEST(BlockScenario, ProblemsNameTheBlock) {
@@ -125,7 +125,7 @@ std::vector<double> csvRow(const std::string& text, std::size_t row) {
 
 TEST(PoseAtAnyTime, AgreesWithTheSampledTrajectoryFileAtSampleTimes) {
   const std::unique_ptr<Plan> plan = planFor({{"route", {{"generator", {{"length_m", 3000}}}}}});
-  const TrainTrajectory& traj = *plan->trajectory;
+  const TrainTrajectory& traj = plan->trajectory();
   const std::string csv = trajectoryCsv(*plan);
   for (std::int64_t k = 0; k < traj.sampleCount(); k += 97) {
     const TrajectorySample s = traj.at(k * traj.samplePeriod());
@@ -149,7 +149,7 @@ TEST(PoseAtAnyTime, DerivativesMatchFiniteDifferencesBetweenSamples) {
       {"route", {{"transition_shape", "bloss"}, {"generator", {{"length_m", 4000}}}}},
       {"train", {{"reference_point", {{"x_m", 6.0}, {"y_m", 0.7}, {"z_m", 3.2}}}}}};
   const std::unique_ptr<Plan> plan = planFor(input);
-  const TrainTrajectory& traj = *plan->trajectory;
+  const TrainTrajectory& traj = plan->trajectory();
   constexpr TimeNs h_ns = 100'000;  // 0.1 ms
   const double h = toSeconds(h_ns);
   int checked = 0;
@@ -181,7 +181,7 @@ TEST(PoseAtAnyTime, DerivativesMatchFiniteDifferencesBetweenSamples) {
 
 TEST(PoseAtAnyTime, ClampsToTheRunAndKeepsIntegerTime) {
   const std::unique_ptr<Plan> plan = planFor({{"route", {{"generator", {{"length_m", 2000}}}}}});
-  const TrainTrajectory& traj = *plan->trajectory;
+  const TrainTrajectory& traj = plan->trajectory();
   EXPECT_EQ(traj.at(-5).p_world, traj.sample(0).p_world);
   EXPECT_EQ(traj.at(traj.endTime() + 1'000'000'000).p_world,
             traj.sample(traj.sampleCount() - 1).p_world);

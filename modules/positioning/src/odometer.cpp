@@ -38,9 +38,8 @@ OdometerReading OdometerModel::step(std::uint64_t k, TimeNs t, double distance_m
   OdometerReading r;
   r.pulses = static_cast<std::int64_t>(std::floor(encoder_m_ / pulse_m_));
   r.distance_m = static_cast<double>(r.pulses) * pulse_m_;
-  r.speed_m_s = k == 0 ? 0.0
-                       : static_cast<double>(r.pulses - last_pulses_) * pulse_m_ /
-                             toSeconds(period_);
+  r.speed_m_s =
+      k == 0 ? 0.0 : static_cast<double>(r.pulses - last_pulses_) * pulse_m_ / toSeconds(period_);
   last_pulses_ = r.pulses;
   r.slip = episode_factor_ > 0 ? 1 : episode_factor_ < 0 ? -1 : 0;
   return r;

@@ -77,19 +77,15 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
 }
 
 GenerateReport generate(const scenario::Scenario& scenario, const GenerateOptions& options) {
-  // Stages of PRODUCT.md §1 that are not built yet. Each is removed from this list by the
-  // change that implements it; the manifest and the CLI report them, so no run pretends.
-  std::vector<std::string> not_run = {
-      "terrain, objects and track assets",
-      "LiDAR",
-      "cameras",
-  };
+  // Stages of PRODUCT.md §1 that are not built yet, from the stage table; the manifest and the
+  // CLI report them, so no run pretends.
+  std::vector<std::string> not_run = stagesNotRun();
   const std::unique_ptr<Plan> plan = makePlan(scenario);
   const SensorContext context =
-      makeSensorContext(scenario, *plan->trajectory, &plan->route.route, &plan->layout);
+      makeSensorContext(scenario, plan->trajectory(), &plan->route().route, &plan->layout());
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
-  return runDataset(scenario, plan->trajectory.get(), std::move(sensors), options,
-                    std::move(not_run), [&](io::DatasetWriter& writer) {
+  return runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
+                    [&](io::DatasetWriter& writer) {
                       writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
                         writer.writeFile(name, bytes);
                       });

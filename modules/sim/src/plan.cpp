@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/geodesy.hpp"
+#include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
 
 namespace trainsim::sim {
@@ -120,16 +122,16 @@ track::TrainDynamics dynamics(const scenario::Scenario& sc) {
 
 }  // namespace
 
-TrainTrajectory::TrainTrajectory(const track::Track& track, const track::MotionProfile& motion,
-                                 track::VehicleGeometry vehicle, Eigen::Vector3d reference_point,
-                                 TimeNs period)
-    : track_(track),
-      motion_(motion),
+TrainTrajectory::TrainTrajectory(std::shared_ptr<const RouteStage> route,
+                                 track::MotionProfile motion, track::VehicleGeometry vehicle,
+                                 Eigen::Vector3d reference_point, TimeNs period)
+    : route_(std::move(route)),
+      motion_(std::move(motion)),
       vehicle_(vehicle),
       reference_(std::move(reference_point)),
       period_(period),
       // Up to the first sample at or after the end of the run, where the train is at rest.
-      count_(static_cast<std::int64_t>(std::ceil(motion.duration() / toSeconds(period))) + 1) {}
+      count_(static_cast<std::int64_t>(std::ceil(motion_.duration() / toSeconds(period))) + 1) {}
 
 track::MotionState TrainTrajectory::motion(std::int64_t k) const {
   return motion_.at(toSeconds(k * period_));
@@ -140,7 +142,7 @@ track::MotionState TrainTrajectory::motionAt(TimeNs t) const {
 }
 
 track::BodyState TrainTrajectory::body(const track::MotionState& m) const {
-  return track::bodyState(track_, vehicle_, m);
+  return track::bodyState(route_->route.route.track, vehicle_, m);
 }
 
 TrajectorySample TrainTrajectory::at(TimeNs t) const {
@@ -161,7 +163,56 @@ TrajectorySample TrainTrajectory::at(TimeNs t) const {
   return s;
 }
 
-std::unique_ptr<Plan> makePlan(const scenario::Scenario& sc) {
+Plan::Plan(std::shared_ptr<const RouteStage> route, std::shared_ptr<const LayoutStage> layout,
+           std::shared_ptr<const MotionStage> motion)
+    : route_(std::move(route)), layout_(std::move(layout)), motion_(std::move(motion)) {
+  violations_ = route_->violations;
+  violations_.insert(violations_.end(), layout_->violations.begin(), layout_->violations.end());
+  std::stable_sort(violations_.begin(), violations_.end(),
+                   [](const track::Violation& a, const track::Violation& b) {
+                     return a.chainage_begin_m < b.chainage_begin_m;
+                   });
+}
+
+namespace {
+
+// The pipeline's stage table (PRODUCT.md §1). The first three are the plan's stages; each key
+// hashes exactly these sections.
+constexpr const char* kRouteSections[] = {"seed", "geodetic_origin", "route", "design"};
+constexpr const char* kLayoutSections[] = {"seed", "layout"};
+constexpr const char* kMotionSections[] = {"train", "trajectory"};
+constexpr const char* kTerrainSections[] = {"seed"};
+constexpr const char* kSensorSections[] = {"sensors"};
+constexpr PipelineStage kStages[] = {
+    {"route", "route, vertical profile, cant and design rules", kRouteSections, true},
+    {"layout", "double and auxiliary tracks", kLayoutSections, true},
+    {"motion", "speed profile and trajectory", kMotionSections, true},
+    {"terrain", "terrain, objects and track assets", kTerrainSections, false},
+    {"lidar", "LiDAR", kSensorSections, false},
+    {"cameras", "cameras", kSensorSections, false},
+};
+
+std::uint64_t stageKey(const scenario::Scenario& sc, std::string_view stage,
+                       std::initializer_list<std::uint64_t> upstream) {
+  std::string bytes(stage);
+  for (const PipelineStage& s : kStages)
+    if (stage == s.name)
+      for (const char* section : s.sections)
+        bytes += sc.at(section).dump();
+  for (std::uint64_t k : upstream)
+    bytes += fmt::format("|{:016x}", k);
+  // A waypoint route is also a function of its file: its size and modification time.
+  if (stage == "route" && sc.get<std::string>("route.source") == "waypoints") {
+    std::error_code ec;
+    const std::filesystem::path file = sc.get<std::string>("route.waypoints_file");
+    const auto size = std::filesystem::file_size(file, ec);
+    const auto time = std::filesystem::last_write_time(file, ec);
+    bytes += fmt::format("|{}|{}", ec ? 0 : size, time.time_since_epoch().count());
+  }
+  return fnv1a64(bytes);
+}
+
+std::shared_ptr<const RouteStage> buildRoute(const scenario::Scenario& sc, std::uint64_t key) {
   track::RouteOptions opt;
   opt.rules = designRules(sc);
   opt.transition_shape = sc.get<std::string>("route.transition_shape") == "bloss"
@@ -172,7 +223,6 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& sc) {
                           : track::CantRotation::kInnerRail;
   opt.station_stops = sc.get<bool>("route.station_stops");
   opt.station_dwell_s = sc.get<double>("route.station_dwell_s");
-
   auto route_of = [&]() {
     const std::string source = sc.get<std::string>("route.source");
     if (source == "blocks")
@@ -186,55 +236,117 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& sc) {
     wp.radius_max_m = sc.get<double>("route.waypoint_radius_max_m");
     return track::importWaypoints(sc.get<std::string>("route.waypoints_file"), anchor, wp, opt);
   };
-  std::unique_ptr<Plan> plan(new Plan{opt, route_of(), {}, {}, {}, {}, nullptr});
-  const track::Route& route = plan->route.route;
-  plan->violations = plan->route.fitting;
-  for (track::Violation& v : track::checkDesign(route, opt.rules))
-    plan->violations.push_back(std::move(v));
+  track::DesignedRoute route = route_of();
+  std::vector<track::Violation> violations = route.fitting;
+  for (track::Violation& v : track::checkDesign(route.route, opt.rules))
+    violations.push_back(std::move(v));
+  return std::make_shared<const RouteStage>(
+      RouteStage{key, opt, std::move(route), std::move(violations)});
+}
 
+std::shared_ptr<const LayoutStage> buildLayoutStage(const scenario::Scenario& sc,
+                                                    const RouteStage& route, std::uint64_t key) {
+  auto stage = std::make_shared<LayoutStage>();
+  stage->key = key;
   const track::LayoutParams lp = layoutParams(sc);
-  plan->layout = track::buildLayout(route, lp, sc.seed());
+  stage->layout = track::buildLayout(route.route.route, lp, sc.seed());
   for (const track::ClearanceIssue& c :
-       track::checkClearance(plan->layout, lp.track_centre_distance_m)) {
-    plan->violations.push_back(
+       track::checkClearance(stage->layout, lp.track_centre_distance_m)) {
+    stage->violations.push_back(
         {"track_clearance", 0.0, 0.0, -1, c.clearance_m, lp.track_centre_distance_m, "m",
          fmt::format("track {} comes within {:.3f} m of track {} at {:.1f} m along it", c.track_id,
                      c.clearance_m, c.other_track_id, c.distance_along_m)});
   }
-  std::stable_sort(plan->violations.begin(), plan->violations.end(),
-                   [](const track::Violation& a, const track::Violation& b) {
-                     return a.chainage_begin_m < b.chainage_begin_m;
-                   });
+  return stage;
+}
 
-  plan->limits.accel_m_s2 = sc.get<double>("train.max_accel_m_s2");
-  plan->limits.brake_m_s2 = sc.get<double>("train.max_brake_m_s2");
-  plan->limits.jerk_m_s3 = sc.get<double>("train.max_jerk_m_s3");
-  plan->limits.train_length_m = sc.get<double>("train.length_m");
+std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
+                                               std::shared_ptr<const RouteStage> route,
+                                               std::uint64_t key) {
+  track::MotionLimits limits;
+  limits.accel_m_s2 = sc.get<double>("train.max_accel_m_s2");
+  limits.brake_m_s2 = sc.get<double>("train.max_brake_m_s2");
+  limits.jerk_m_s3 = sc.get<double>("train.max_jerk_m_s3");
+  limits.train_length_m = sc.get<double>("train.length_m");
   track::VehicleGeometry vehicle;
   vehicle.bogie_spacing_m = sc.get<double>("train.bogie_spacing_m");
-  const double u_length = route.track.distanceLength();
+  const track::Route& r = route->route.route;
+  const double u_length = r.track.distanceLength();
   const double u_start = vehicle.bogie_spacing_m;
   const double u_end = u_length - 1.0;
   if (u_end <= u_start + 1.0)
     throw ConfigError("train.bogie_spacing_m: the route is too short for the train");
-  plan->motion =
-      track::planMotion(route, plan->route.stops, plan->limits, dynamics(sc), u_start, u_end);
+  track::MotionProfile motion =
+      track::planMotion(r, route->route.stops, limits, dynamics(sc), u_start, u_end);
   const Eigen::Vector3d reference(sc.get<double>("train.reference_point.x_m"),
                                   sc.get<double>("train.reference_point.y_m"),
                                   sc.get<double>("train.reference_point.z_m"));
-  plan->trajectory = std::make_unique<TrainTrajectory>(
-      route.track, plan->motion, vehicle, reference, sc.get<TimeNs>("trajectory.sample_period_ns"));
+  return std::make_shared<MotionStage>(
+      MotionStage{key, limits,
+                  TrainTrajectory(std::move(route), std::move(motion), vehicle, reference,
+                                  sc.get<TimeNs>("trajectory.sample_period_ns"))});
+}
+
+}  // namespace
+
+std::span<const PipelineStage> pipelineStages() {
+  return kStages;
+}
+
+std::vector<std::string> stagesNotRun() {
+  std::vector<std::string> out;
+  for (const PipelineStage& s : kStages)
+    if (!s.implemented)
+      out.emplace_back(s.description);
+  return out;
+}
+
+Plan Planner::plan(const scenario::Scenario& sc) {
+  const std::lock_guard lock(mutex_);
+  const std::uint64_t route_key = stageKey(sc, "route", {});
+  if (!route_ || route_->key != route_key) {
+    route_ = buildRoute(sc, route_key);
+    ++route_builds_;
+  }
+  const std::uint64_t layout_key = stageKey(sc, "layout", {route_key});
+  if (!layout_ || layout_->key != layout_key) {
+    layout_ = buildLayoutStage(sc, *route_, layout_key);
+    ++layout_builds_;
+  }
+  const std::uint64_t motion_key = stageKey(sc, "motion", {route_key});
+  if (!motion_ || motion_->key != motion_key) {
+    motion_ = buildMotion(sc, route_, motion_key);
+    ++motion_builds_;
+  }
+  Plan plan(route_, layout_, motion_);
+  const track::Route& route = plan.route().route;
   logInfo(fmt::format(
       "plan: route {:.0f} m, {} blocks, {} tracks, {} design-rule violations, "
       "run of {:.1f} s ({} samples)",
-      route.track.length(), route.blocks.size(), plan->layout.tracks.size(),
-      plan->violations.size(), plan->motion.duration(), plan->trajectory->sampleCount()));
+      route.track.length(), route.blocks.size(), plan.layout().tracks.size(),
+      plan.violations().size(), plan.motion().duration(), plan.trajectory().sampleCount()));
   return plan;
+}
+
+std::int64_t Planner::builds(std::string_view name) const {
+  const std::lock_guard lock(mutex_);
+  if (name == "route")
+    return route_builds_;
+  if (name == "layout")
+    return layout_builds_;
+  if (name == "motion")
+    return motion_builds_;
+  throw RuntimeError(fmt::format("no plan stage '{}'", name));
+}
+
+std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
+  Planner planner;
+  return std::make_unique<Plan>(planner.plan(scenario));
 }
 
 std::string railroadJson(const Plan& plan) {
   nlohmann::json tracks = nlohmann::json::array();
-  for (const track::LayoutTrack& t : plan.layout.tracks) {
+  for (const track::LayoutTrack& t : plan.layout().tracks) {
     nlohmann::json blocks = nlohmann::json::array();
     for (const track::LayoutBlock& b : t.blocks) {
       nlohmann::json jb = {{"type", b.type}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
@@ -260,7 +372,7 @@ std::string railroadJson(const Plan& plan) {
     tracks.push_back(std::move(jt));
   }
   nlohmann::json main_blocks = nlohmann::json::array();
-  for (const track::Block& b : plan.route.route.blocks) {
+  for (const track::Block& b : plan.route().route.blocks) {
     main_blocks.push_back({{"id", b.id},
                            {"type", std::string(track::blockTypeName(b.type))},
                            {"chainage_begin_m", b.chainage_begin_m},
@@ -273,7 +385,7 @@ std::string railroadJson(const Plan& plan) {
   const nlohmann::json doc = {
       {"format", "trainsim-railroad"},
       {"frame", "world ENU at geodetic_origin, metres; z is height relative to the origin"},
-      {"main_track", {{"length_m", plan.route.route.track.length()}, {"blocks", main_blocks}}},
+      {"main_track", {{"length_m", plan.route().route.track.length()}, {"blocks", main_blocks}}},
       {"tracks", tracks}};
   return doc.dump(1) + "\n";
 }
@@ -281,7 +393,7 @@ std::string railroadJson(const Plan& plan) {
 std::string designReportJson(const Plan& plan) {
   nlohmann::json list = nlohmann::json::array();
   std::map<std::string, int> counts;
-  for (const track::Violation& v : plan.violations) {
+  for (const track::Violation& v : plan.violations()) {
     ++counts[v.rule];
     list.push_back({{"rule", v.rule},
                     {"chainage_begin_m", v.chainage_begin_m},
@@ -292,21 +404,21 @@ std::string designReportJson(const Plan& plan) {
                     {"unit", v.unit},
                     {"message", v.message}});
   }
-  const track::DesignRules& r = plan.options.rules;
+  const track::DesignRules& r = plan.options().rules;
   const nlohmann::json doc = {{"format", "trainsim-design-report"},
                               {"design_speed_km_h", r.design_speed_m_s * 3.6},
                               {"min_radius_m", r.minRadius(r.design_speed_m_s)},
                               {"min_vertical_radius_m", r.minVerticalRadius(r.design_speed_m_s)},
-                              {"route_length_m", plan.route.route.track.length()},
-                              {"violation_count", plan.violations.size()},
+                              {"route_length_m", plan.route().route.track.length()},
+                              {"violation_count", plan.violations().size()},
                               {"violations_by_rule", counts},
                               {"violations", list}};
   return doc.dump(2) + "\n";
 }
 
 std::string trajectoryCsv(const Plan& plan) {
-  const TrainTrajectory& traj = *plan.trajectory;
-  const track::Route& route = plan.route.route;
+  const TrainTrajectory& traj = plan.trajectory();
+  const track::Route& route = plan.route().route;
   // Formatted straight into the result (no second copy): ~390 bytes per row.
   std::string out;
   out.reserve(static_cast<std::size_t>(traj.sampleCount()) * 400 + 1024);
@@ -334,11 +446,11 @@ std::string trajectoryCsv(const Plan& plan) {
                    "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
                    "{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},0\n",
                    k * traj.samplePeriod(), f.chainage_m, m.u_m, m.v_m_s, m.a_m_s2, m.jerk_m_s3,
-                   plan.motion.limit().at(m.u_m), b.front.x(), b.front.y(), b.front.z(), b.rear.x(),
-                   b.rear.y(), b.rear.z(), p.x(), p.y(), p.z(), b.yaw_rad, b.pitch_rad, b.roll_rad,
-                   v.x(), v.y(), v.z(), a.x(), a.y(), a.z(), vb.x(), vb.y(), vb.z(), ab.x(), ab.y(),
-                   ab.z(), b.w_body.x(), b.w_body.y(), b.w_body.z(), b.alpha_body.x(),
-                   b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
+                   plan.motion().limit().at(m.u_m), b.front.x(), b.front.y(), b.front.z(),
+                   b.rear.x(), b.rear.y(), b.rear.z(), p.x(), p.y(), p.z(), b.yaw_rad, b.pitch_rad,
+                   b.roll_rad, v.x(), v.y(), v.z(), a.x(), a.y(), a.z(), vb.x(), vb.y(), vb.z(),
+                   ab.x(), ab.y(), ab.z(), b.w_body.x(), b.w_body.y(), b.w_body.z(),
+                   b.alpha_body.x(), b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
                    route.blockAt(f.chainage_m).id);
   }
   return out;

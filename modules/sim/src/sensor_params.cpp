@@ -33,11 +33,13 @@ TimeNs readPeriod(const scenario::Json& config) {
 scenario::Param declareMount(const std::string& description, MountDefaults d) {
   using scenario::number;
   return scenario::object(
-      kMount, description + " (body axes: x forward, y left, z up; relative to the body reference point)",
+      kMount,
+      description + " (body axes: x forward, y left, z up; relative to the body reference point)",
       {number("x_m", d.x_m, "m", "Forward").range(-100, 100),
        number("y_m", d.y_m, "m", "Left").range(-10, 10),
        number("z_m", d.z_m, "m", "Up").range(-10, 10),
-       number("roll_deg", 0, "deg", "Roll about body x (right side down positive)").range(-180, 180),
+       number("roll_deg", 0, "deg", "Roll about body x (right side down positive)")
+           .range(-180, 180),
        number("pitch_deg", 0, "deg", "Pitch about body y (nose up positive, as the body's pitch)")
            .range(-90, 90),
        number("yaw_deg", 0, "deg", "Yaw about body z (to the left positive)").range(-180, 180)});

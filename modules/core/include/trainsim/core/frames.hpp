@@ -44,6 +44,7 @@ Eigen::Matrix3d rotationBodyFromKittiVelodyne();
 
 /// KITTI's `Tr` in calib.txt maps points from the velodyne frame into the camera frame:
 /// p_cam = Tr · p_velo, i.e. Tr = T_cam_velo = T_body_cam⁻¹ · T_body_velo.
-Eigen::Isometry3d kittiTr(const Eigen::Isometry3d& T_body_cam, const Eigen::Isometry3d& T_body_velo);
+Eigen::Isometry3d kittiTr(const Eigen::Isometry3d& T_body_cam,
+                          const Eigen::Isometry3d& T_body_velo);
 
 }  // namespace trainsim

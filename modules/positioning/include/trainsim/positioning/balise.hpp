@@ -13,17 +13,17 @@ namespace trainsim::positioning {
 
 /// Where balise groups lie along a track (rail-imu-reference.md §5, docs/REFERENCES.md).
 struct BalisePlacement {
-  double first_group_m = 200.0;       ///< distance of the first group from the track start
-  double group_spacing_m = 1000.0;    ///< between groups
-  int balises_per_group = 2;          ///< balises in a group
-  double balise_spacing_m = 3.0;      ///< between the balises of a group
-  double station_approach_m = 50.0;   ///< an extra group this far before each station; 0: none
+  double first_group_m = 200.0;      ///< distance of the first group from the track start
+  double group_spacing_m = 1000.0;   ///< between groups
+  int balises_per_group = 2;         ///< balises in a group
+  double balise_spacing_m = 3.0;     ///< between the balises of a group
+  double station_approach_m = 50.0;  ///< an extra group this far before each station; 0: none
 };
 
 struct Balise {
   int group = 0;
-  int index = 0;      ///< within its group
-  double u_m = 0.0;   ///< distance along the track (3D)
+  int index = 0;     ///< within its group
+  double u_m = 0.0;  ///< distance along the track (3D)
 };
 
 /// Balise groups every group_spacing_m from first_group_m while a whole group fits before

@@ -2,7 +2,10 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,11 +19,14 @@
 
 namespace trainsim::sim {
 
-/// The train's run over the main track sampled at T_S: sample k is the motion at k·T_S with
-/// the body on its two bogies, everything in closed form.
+struct RouteStage;
+
+/// The train's run over the main track: the motion at any time with the body on its two
+/// bogies, everything in closed form, sampled at T_S. Owns its motion profile and shares the
+/// route stage it runs on, so it holds no reference into a struct that contains it.
 class TrainTrajectory final : public Trajectory {
  public:
-  TrainTrajectory(const track::Track& track, const track::MotionProfile& motion,
+  TrainTrajectory(std::shared_ptr<const RouteStage> route, track::MotionProfile motion,
                   track::VehicleGeometry vehicle, Eigen::Vector3d reference_point, TimeNs period);
 
   TimeNs samplePeriod() const override { return period_; }
@@ -33,28 +39,96 @@ class TrainTrajectory final : public Trajectory {
   /// The body on its bogies for a motion state (e.g. motion(k)).
   track::BodyState body(const track::MotionState& m) const;
   const Eigen::Vector3d& referencePoint() const { return reference_; }
+  const track::MotionProfile& profile() const { return motion_; }
 
  private:
-  const track::Track& track_;
-  const track::MotionProfile& motion_;
+  std::shared_ptr<const RouteStage> route_;
+  track::MotionProfile motion_;
   track::VehicleGeometry vehicle_;
   Eigen::Vector3d reference_;
   TimeNs period_;
   std::int64_t count_;
 };
 
-/// Everything the plan stage produces (PRODUCT.md §1, stages 1–3).
-struct Plan {
+/// The plan is a chain of immutable stages (PRODUCT.md §1, stages 1–3; later terrain and
+/// scene). Each is a pure function of the scenario sections it reads (pipelineStages()) and of
+/// the stages before it, and is identified by `key`, a hash of exactly those inputs, so a
+/// Planner can reuse a stage whose inputs did not change.
+struct RouteStage {
+  std::uint64_t key = 0;
   track::RouteOptions options;
   track::DesignedRoute route;
+  std::vector<track::Violation> violations;  ///< fitting and design rules
+};
+struct LayoutStage {
+  std::uint64_t key = 0;
   track::Layout layout;
-  std::vector<track::Violation> violations;  ///< design rules and fitting, chainage order
+  std::vector<track::Violation> violations;  ///< track clearance
+};
+struct MotionStage {
+  std::uint64_t key = 0;
   track::MotionLimits limits;
-  track::MotionProfile motion;
-  std::unique_ptr<TrainTrajectory> trajectory;
+  TrainTrajectory trajectory;
 };
 
-/// Builds route, layout, motion and trajectory from a resolved scenario.
+/// Everything the plan stage produces: shared, immutable stages (cheap to copy).
+class Plan {
+ public:
+  Plan(std::shared_ptr<const RouteStage> route, std::shared_ptr<const LayoutStage> layout,
+       std::shared_ptr<const MotionStage> motion);
+
+  const RouteStage& routeStage() const { return *route_; }
+  const track::RouteOptions& options() const { return route_->options; }
+  const track::DesignedRoute& route() const { return route_->route; }
+  const track::Layout& layout() const { return layout_->layout; }
+  const track::MotionLimits& limits() const { return motion_->limits; }
+  const track::MotionProfile& motion() const { return motion_->trajectory.profile(); }
+  const TrainTrajectory& trajectory() const { return motion_->trajectory; }
+  /// Design rules, fitting and clearance, in chainage order.
+  const std::vector<track::Violation>& violations() const { return violations_; }
+
+  std::shared_ptr<const RouteStage> routeShared() const { return route_; }
+  std::shared_ptr<const LayoutStage> layoutShared() const { return layout_; }
+  std::shared_ptr<const MotionStage> motionShared() const { return motion_; }
+
+ private:
+  std::shared_ptr<const RouteStage> route_;
+  std::shared_ptr<const LayoutStage> layout_;
+  std::shared_ptr<const MotionStage> motion_;
+  std::vector<track::Violation> violations_;
+};
+
+/// One stage of the pipeline (PRODUCT.md §1): its name, what it makes, the scenario sections
+/// it reads (its key hashes them with the keys of the stages it builds on), and whether it is
+/// built yet. generate() reports the stages that are not as "not simulated yet".
+struct PipelineStage {
+  const char* name;
+  const char* description;
+  std::span<const char* const> sections;
+  bool implemented;
+};
+std::span<const PipelineStage> pipelineStages();
+/// Descriptions of the stages not implemented yet, in pipeline order.
+std::vector<std::string> stagesNotRun();
+
+/// Builds plans and keeps the stages of the last one: a stage whose key (its sections, the
+/// keys before it, and for waypoint routes the file's size and time) did not change is
+/// reused, so an edit to `train` re-plans the motion only. Thread-safe (one plan at a time).
+class Planner {
+ public:
+  Plan plan(const scenario::Scenario& scenario);
+  /// How many times the stage `name` ("route", "layout", "motion") has been built.
+  std::int64_t builds(std::string_view name) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const RouteStage> route_;
+  std::shared_ptr<const LayoutStage> layout_;
+  std::shared_ptr<const MotionStage> motion_;
+  std::int64_t route_builds_ = 0, layout_builds_ = 0, motion_builds_ = 0;
+};
+
+/// Builds route, layout, motion and trajectory from a resolved scenario (a fresh Planner).
 std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario);
 
 std::string railroadJson(const Plan& plan);
