@@ -65,22 +65,24 @@ DatasetFiles findDatasetFiles(const QString& root) {
   out.root = root;
   const std::string scenario_file = (root + "/scenario.json").toStdString();
   out.scenario = scenario::parseJson(scenario::readScenarioText(scenario_file), scenario_file);
-  const scenario::Json& sc = out.scenario;
-  const QString seq = root + "/sequences/00/";
-  auto collect = [&](const char* kind, std::map<std::string, QString>& into) {
-    if (!sc.contains("sensors") || !sc["sensors"].contains(kind))
-      return;
-    for (const scenario::Json& s : sc["sensors"][kind]) {
-      const std::string name = s.at("name").get<std::string>();
-      const QString file = seq + QString::fromStdString(name) + ".csv";
-      if (QFileInfo::exists(file))
-        into[name] = file;
-    }
-  };
-  collect("imus", out.imus);
-  collect("gnss_receivers", out.gnss);
-  collect("odometers", out.odometers);
-  collect("balise_readers", out.balises);
+  // The manifest lists every sensor with its files (the readings file first), wherever
+  // dataset.sequence put them.
+  const std::string manifest_file = (root + "/manifest.json").toStdString();
+  const scenario::Json manifest =
+      scenario::parseJson(scenario::readScenarioText(manifest_file), manifest_file);
+  const std::map<std::string, std::map<std::string, QString>*> by_kind = {
+      {"imu", &out.imus},
+      {"gnss", &out.gnss},
+      {"odometer", &out.odometers},
+      {"balise_reader", &out.balises}};
+  for (const scenario::Json& s : manifest.at("sensors")) {
+    const auto it = by_kind.find(s.at("kind").get<std::string>());
+    if (it == by_kind.end() || !s.contains("files") || s["files"].empty())
+      continue;
+    const QString file = root + "/" + QString::fromStdString(s.at("files")[0].get<std::string>());
+    if (QFileInfo::exists(file))
+      (*it->second)[s.at("name").get<std::string>()] = file;
+  }
   return out;
 }
 

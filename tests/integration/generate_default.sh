@@ -15,8 +15,23 @@ assert m["format"] == "trainsim-dataset", m
 assert m["seed"] == 42 and len(m["scenario_hash"]) == 16, m
 assert m["sequence"] == "00" and isinstance(m["sensors"], list), m
 assert isinstance(m["not_simulated"], list), m
+# Every output is listed with its files, and they exist.
+import os
+root = os.path.dirname(sys.argv[1])
+assert m["sequence_dir"] == "sequences/00", m
+for s in m["sensors"]:
+    assert s["files"], s
+    for f in s["files"]:
+        assert os.path.exists(os.path.join(root, f)), f
+assert [s["files"] for s in m["sensors"] if s["kind"] == "frames"] == [
+    ["sequences/00/times.txt", "sequences/00/poses.txt"]], m
 PY
 expect_contains "$WORK/err" "not simulated yet" "generate says which stages did not run"
+# Another sequence number: the manifest says where its files are.
+expect_exit 0 "generate sequence 7" -- bash -c \
+  "\"$TRAINSIM\" defaults | sed 's/\"sequence\": 0/\"sequence\": 7/' | \"$TRAINSIM\" generate - --out \"$WORK/s7\""
+grep -q '"sequences/07/imu.csv"' "$WORK/s7/manifest.json" && pass "manifest lists sequences/07 files" ||
+  fail "manifest does not list sequences/07 files"
 
 # Same scenario and seed: byte-identical, whatever the thread count.
 # The run loop reports its worker arena; the unit test RunLoop.* shows the renders really run

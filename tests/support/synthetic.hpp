@@ -49,6 +49,7 @@ class NoiseSensor final : public sim::SensorOf<NoiseReading> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "test_noise"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return {name_ + ".csv", name_ + "/"}; }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
   nlohmann::json state() const override;
 
@@ -85,6 +86,7 @@ class BusySensor final : public sim::SensorOf<std::uint64_t> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "test_busy"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return {name_ + ".csv"}; }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
 
  private:

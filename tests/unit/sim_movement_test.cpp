@@ -26,6 +26,7 @@ class Recorder final : public SensorOf<TimeNs> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "recorder"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return {}; }
   void begin(io::DatasetWriter&, const nlohmann::json&) override {}
   std::vector<std::int64_t> samples;
   std::vector<TimeNs> times;
@@ -159,6 +160,7 @@ TEST(RunDataset, CancelledThenResumedRunIsByteIdenticalToAnUninterruptedOne) {
     std::string name() const override { return "canceller"; }
     std::string kind() const override { return "test"; }
     TimeNs period() const override { return 10'000'000; }
+    std::vector<std::string> outputs() const override { return {}; }
     void begin(io::DatasetWriter&, const nlohmann::json&) override {}
 
    private:

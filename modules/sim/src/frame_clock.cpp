@@ -26,8 +26,9 @@ FrameClock::FrameClock(TimeNs period, const Trajectory& trajectory)
 
 void FrameClock::begin(io::DatasetWriter& writer, const nlohmann::json& /*state*/) {
   const auto dir = writer.sequenceDir().lexically_relative(writer.root());
-  times_ = &writer.appendFile(dir / "times.txt");
-  poses_ = &writer.appendFile(dir / "poses.txt");
+  const std::vector<std::string> files = outputs();
+  times_ = &writer.appendFile(dir / files[0]);
+  poses_ = &writer.appendFile(dir / files[1]);
 }
 
 FrameLines FrameClock::read(std::int64_t k) const {

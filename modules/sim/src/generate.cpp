@@ -13,11 +13,13 @@ namespace trainsim::sim {
 namespace {
 
 nlohmann::json manifest(const scenario::Scenario& scenario, const std::string& sequence,
-                        const Trajectory* trajectory, const GenerateReport& report) {
+                        const std::string& sequence_dir, const Trajectory* trajectory,
+                        const GenerateReport& report) {
   nlohmann::json sensors = nlohmann::json::array();
   std::int64_t frames = 0;
   for (const auto& o : report.outputs) {
-    sensors.push_back({{"name", o.name}, {"kind", o.kind}, {"readings", o.readings}});
+    sensors.push_back(
+        {{"name", o.name}, {"kind", o.kind}, {"readings", o.readings}, {"files", o.files}});
     if (o.kind == "frames")
       frames = o.readings;
   }
@@ -27,6 +29,7 @@ nlohmann::json manifest(const scenario::Scenario& scenario, const std::string& s
       {"scenario_hash", scenario.hash()},
       {"seed", scenario.seed()},
       {"sequence", sequence},
+      {"sequence_dir", sequence_dir},
       {"trajectory",
        {{"sample_period_ns", scenario.get<std::int64_t>("trajectory.sample_period_ns")},
         {"samples", trajectory ? trajectory->sampleCount() : 0}}},
@@ -48,6 +51,7 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   const std::string sequence = fmt::format("{:02}", scenario.get<int>("dataset.sequence"));
   io::DatasetWriter writer(options.out, sequence, {scenario.hash(), scenario.seed()},
                            options.policy);
+  const std::filesystem::path sequence_dir = writer.sequenceDir().lexically_relative(writer.root());
   if (writer.start() == io::DatasetWriter::Start::kAlreadyComplete) {
     report.already_complete = true;
     return report;
@@ -66,13 +70,16 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     movement.cancel = options.cancel;
     const MovementReport run = runMovement(*trajectory, sensors, writer, movement);
     for (std::size_t i = 0; i < sensors.size(); ++i) {
-      report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), run.readings[i]});
+      std::vector<std::string> files;
+      for (const std::string& f : sensors[i]->outputs())
+        files.push_back((sequence_dir / f).generic_string());
+      report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), run.readings[i], files});
     }
     report.threads = run.threads;
     report.render_threads = run.render_threads;
     report.samples = trajectory->sampleCount();
   }
-  writer.finish(manifest(scenario, sequence, trajectory, report));
+  writer.finish(manifest(scenario, sequence, sequence_dir.generic_string(), trajectory, report));
   return report;
 }
 

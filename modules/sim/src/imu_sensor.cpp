@@ -164,11 +164,13 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "imu"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return sensorFiles(kImuCsvs, name_); }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     const auto dir = writer.sequenceDir().lexically_relative(writer.root());
-    csv_ = &writer.appendFile(dir / (name_ + ".csv"));
-    truth_ = &writer.appendFile(dir / (name_ + "_truth.csv"));
+    const std::vector<std::string> files = outputs();
+    csv_ = &writer.appendFile(dir / files[0]);
+    truth_ = &writer.appendFile(dir / files[1]);
     if (state.is_null()) {
       csv_->write("t_ns,ax_m_s2,ay_m_s2,az_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,mx_T,my_T,mz_T\n");
       truth_->write(

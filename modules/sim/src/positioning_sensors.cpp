@@ -18,8 +18,10 @@ using scenario::object;
 // Thin adapters: the physics is in modules/positioning; these read the scenario, take the
 // truth from the trajectory in render() and run the models and write CSV rows in commit().
 
+// A sensor's readings file: <name>.csv in the sequence folder.
 std::filesystem::path sequenceFile(io::DatasetWriter& writer, const std::string& name) {
-  return writer.sequenceDir().lexically_relative(writer.root()) / (name + ".csv");
+  return writer.sequenceDir().lexically_relative(writer.root()) /
+         sensorFiles(kReadingsCsv, name).front();
 }
 
 const track::Route& requireRoute(const SensorSetup& setup) {
@@ -66,6 +68,7 @@ class GnssSensor final : public SensorOf<AntennaTruth> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "gnss"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     csv_ = &writer.appendFile(sequenceFile(writer, name_));
@@ -159,6 +162,7 @@ class OdometerSensor final : public SensorOf<WheelTruth> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "odometer"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     csv_ = &writer.appendFile(sequenceFile(writer, name_));
@@ -226,6 +230,7 @@ class BaliseReader final : public SensorOf<positioning::AntennaState> {
   std::string name() const override { return name_; }
   std::string kind() const override { return "balise_reader"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     csv_ = &writer.appendFile(sequenceFile(writer, name_));

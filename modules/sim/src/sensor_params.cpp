@@ -1,5 +1,7 @@
 #include "trainsim/sim/sensor_params.hpp"
 
+#include <fmt/format.h>
+
 namespace trainsim::sim {
 namespace {
 constexpr const char* kName = "name";
@@ -24,6 +26,14 @@ scenario::Param declarePeriod(TimeNs default_ns, TimeNs minimum_ns, TimeNs maxim
   return scenario::integer(kPeriod, default_ns, "ns", description)
       .range(static_cast<double>(minimum_ns), static_cast<double>(maximum_ns))
       .multipleOf("trajectory.sample_period_ns");
+}
+
+std::vector<std::string> sensorFiles(std::span<const char* const> patterns,
+                                     const std::string& name) {
+  std::vector<std::string> out;
+  for (const char* pattern : patterns)
+    out.push_back(fmt::format(fmt::runtime(pattern), name));
+  return out;
 }
 
 TimeNs readPeriod(const scenario::Json& config) {

@@ -22,22 +22,21 @@ namespace trainsim::sim {
 //      units in the names, the period declared with .multipleOf("trajectory.sample_period_ns"))
 //      and a `std::unique_ptr<Sensor> createX(const SensorSetup&)`.
 //   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX,
-//      kXFiles}, where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv).
+//      kXFiles}, where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv;
+//      sensor_params.hpp) and its outputs() returns (sensorFiles).
 // The schema (sensors.<key>[]), validation, `trainsim schema`, docs/SCENARIO.md, the studio's
 // panels and the run loop pick the new kind up from this table; nothing else changes.
 //
 // The frame clock that writes times.txt and poses.txt is not a registered kind: every
 // dataset has exactly one (frame_clock.hpp).
 namespace {
-constexpr const char* kImuFiles[] = {"{}.csv", "{}_truth.csv"};
-constexpr const char* kCsvFile[] = {"{}.csv"};
 constexpr std::array<SensorKind, 4> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
-               &createImu, kImuFiles},
-    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, kCsvFile},
-    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, kCsvFile},
+               &createImu, kImuCsvs},
+    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, kReadingsCsv},
+    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, kReadingsCsv},
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
-               &declareBaliseReader, &createBaliseReader, kCsvFile},
+               &declareBaliseReader, &createBaliseReader, kReadingsCsv},
 };
 
 // Files the run writes into the sequence folder itself; no sensor file may take their names.
@@ -99,8 +98,7 @@ void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Prob
             {path + ".name", fmt::format("'{}' is already the name of {}", name, it->second)});
         continue;
       }
-      for (const char* pattern : kind.files) {
-        const std::string file = fmt::format(fmt::runtime(pattern), name);
+      for (const std::string& file : sensorFiles(kind.files, name)) {
         if (const auto [it, fresh] = files.emplace(file, path); !fresh)
           problems.push_back({path + ".name", fmt::format("'{}' would write {}, which {} writes",
                                                           name, file, it->second)});

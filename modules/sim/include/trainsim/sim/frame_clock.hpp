@@ -26,6 +26,7 @@ class FrameClock final : public SensorOf<FrameLines> {
   std::string name() const override { return "frames"; }
   std::string kind() const override { return "frames"; }
   TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override { return {"times.txt", "poses.txt"}; }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
 
  private:

@@ -31,6 +31,7 @@ struct GenerateReport {
     std::string name;
     std::string kind;
     std::int64_t readings;
+    std::vector<std::string> files;  ///< relative to the dataset root
   };
   std::vector<Output> outputs;
   int threads = 0;         ///< worker threads of the run loop

@@ -47,6 +47,9 @@ class Sensor {
   /// Registry kind ("imu", "lidar"), or "frames" for the built-in frame clock.
   virtual std::string kind() const = 0;
   virtual TimeNs period() const = 0;
+  /// The files the sensor writes, relative to the sequence folder; the first holds its
+  /// readings. The manifest lists them, and the studio finds them there.
+  virtual std::vector<std::string> outputs() const = 0;
 
   /// Opens the sensor's files. `state` is null for a fresh run, or what state() returned at
   /// the checkpoint being resumed.

@@ -3,7 +3,9 @@
 // Declarations and readers shared by every sensor kind, so that each convention is declared
 // and read in one place: the sensor's name, its period and its mount.
 
+#include <span>
 #include <string>
+#include <vector>
 
 #include "trainsim/core/frames.hpp"
 #include "trainsim/core/time.hpp"
@@ -15,6 +17,14 @@ namespace trainsim::sim {
 /// omitted, items of a list are named `base`, `base_1`, `base_2`, … by position.
 scenario::Param declareSensorName(const std::string& base, const std::string& files);
 std::string readSensorName(const scenario::Json& config);
+
+/// The files a sensor writes in the sequence folder, as patterns with "{}" for its name: the
+/// one list both the schema's file-clash check and the sensor's own outputs() use. The first
+/// file is the sensor's readings.
+inline constexpr const char* kReadingsCsv[] = {"{}.csv"};
+inline constexpr const char* kImuCsvs[] = {"{}.csv", "{}_truth.csv"};
+std::vector<std::string> sensorFiles(std::span<const char* const> patterns,
+                                     const std::string& name);
 
 /// `period_ns`: a multiple of trajectory.sample_period_ns within [minimum, maximum].
 scenario::Param declarePeriod(TimeNs default_ns, TimeNs minimum_ns, TimeNs maximum_ns,
