@@ -25,7 +25,7 @@ endif()
 # The studio's Qt 5, VTK and QCustomPlot, found here so the GUI tests see the same targets.
 if(TRAINSIM_BUILD_STUDIO)
   find_package(Qt5 5.15 REQUIRED COMPONENTS Widgets Concurrent PrintSupport Test)
-  # Debian's VTK config needs MPI's C component found first (PRODUCT.md §5).
+  # Debian's VTK config needs MPI's C component found first (docs/REFERENCES.md P5).
   find_package(MPI COMPONENTS C)
   find_package(VTK 9.1 REQUIRED COMPONENTS
     CommonCore CommonDataModel FiltersSources GUISupportQt InteractionStyle RenderingAnnotation

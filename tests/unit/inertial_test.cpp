@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kOmega = 7.292115e-5;
 
-// Somigliana normal gravity with the second-order height series (rail-imu-reference.md §2.5),
+// Somigliana normal gravity with the second-order height series (docs/REFERENCES.md R2.5),
 // written independently of GeographicLib.
 double somigliana(double lat_deg, double h) {
   const double a = 6378137.0, f = 1 / 298.257223563, m = 0.00344978650684;

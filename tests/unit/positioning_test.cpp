@@ -97,8 +97,9 @@ TEST(OdometerModel, CountsWholePulsesOfTheScaledDistance) {
     ASSERT_EQ(r.pulses, static_cast<std::int64_t>(std::floor(1.01 * s / pulse))) << k;
     ASSERT_DOUBLE_EQ(r.distance_m, static_cast<double>(r.pulses) * pulse);
     ASSERT_EQ(r.slip, 0);
-    if (k > 0)
+    if (k > 0) {
       ASSERT_NEAR(r.speed_m_s, 1.01 * 37.0, pulse / 0.01 + 1e-9);
+    }
   }
 }
 
@@ -118,12 +119,15 @@ TEST(OdometerModel, SlipOnlyUnderTractionAndSlideOnlyUnderBraking) {
     slips += r.slip == 1;
     slides += r.slip == -1;
     // An episode lasts at most 4 s past the end of its phase.
-    if (phase == 0 && k % 1000 >= 400)
+    if (phase == 0 && k % 1000 >= 400) {
       ASSERT_EQ(r.slip, 0) << k;
-    if (r.slip == 1)
+    }
+    if (r.slip == 1) {
       ASSERT_TRUE(phase == 1 || phase == 2) << k;
-    if (r.slip == -1)
+    }
+    if (r.slip == -1) {
       ASSERT_TRUE(phase == 3 || phase == 0) << k;
+    }
   }
   EXPECT_GT(slips, 0);
   EXPECT_GT(slides, 0);

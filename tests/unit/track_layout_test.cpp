@@ -1,5 +1,5 @@
 // Multi-track layout: turnout and dead-end geometry against the closed forms of
-// rail-imu-reference.md §1.5, the double track as an exact normal offset of the main
+// docs/REFERENCES.md R1.5, the double track as an exact normal offset of the main
 // centreline, clearance of random layouts over many routes, and the clearance checker itself.
 
 #include <gtest/gtest.h>
@@ -63,7 +63,7 @@ TEST(Layout, KnownTurnouts) {
 }
 
 TEST(Layout, TurnoutConnectionReachesTrackCentreDistanceAndTurnsBackParallel) {
-  // Reference values (§1.5): 190-1:9 at d = 4.0 m: L_s ≈ 15.2 m, L_x ≈ 57 m.
+  // Reference values (docs/REFERENCES.md R1.5): 190-1:9 at d = 4.0 m: L_s ≈ 15.2 m, L_x ≈ 57 m.
   const double r = 190.0, alpha = std::atan(1.0 / 9.0);
   const double ls = (kD - 2.0 * r * (1.0 - std::cos(alpha))) / std::sin(alpha);
   const double lx = 2.0 * r * std::sin(alpha) + ls * std::cos(alpha);

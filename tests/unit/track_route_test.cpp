@@ -71,9 +71,9 @@ TEST(CantProfile, LinearAndBlossRamps) {
 
 TEST(DesignRules, ReferenceNumbers) {
   DesignRules r;
-  // rail-imu-reference §1.4: 160 km/h with D + I = 160 + 130 mm gives R_min ≈ 1042 m.
+  // docs/REFERENCES.md R1.4: 160 km/h with D + I = 160 + 130 mm gives R_min ≈ 1042 m.
   EXPECT_NEAR(r.minRadius(160 / 3.6), 1042.0, 1.5);
-  // §1.3 worked example: V 160, R 1500, D 120, I 81: L1 107 m, L2 66 m, L3 53 m.
+  // R1.3 worked example: V 160, R 1500, D 120, I 81: L1 107 m, L2 66 m, L3 53 m.
   r.max_cant_gradient = 2.25e-3;
   const double e = r.equilibriumCant(160 / 3.6, 1500);
   EXPECT_NEAR(e, 0.2013, 1e-3);

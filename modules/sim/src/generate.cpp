@@ -84,8 +84,8 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
 }
 
 GenerateReport generate(const scenario::Scenario& scenario, const GenerateOptions& options) {
-  // Stages of PRODUCT.md §1 that are not built yet, from the stage table; the manifest and the
-  // CLI report them, so no run pretends.
+  // Pipeline stages (docs/REFERENCES.md P1) that are not built yet, from the stage table; the
+  // manifest and the CLI report them, so no run pretends.
   std::vector<std::string> not_run = stagesNotRun();
   const std::unique_ptr<Plan> plan = makePlan(scenario);
   const SensorContext context =

@@ -27,7 +27,7 @@ using scenario::object;
 constexpr double kDeg = kRadPerDeg;
 constexpr double kG = kStandardGravity_m_s2;
 
-// Datasheet-class presets (rail-imu-reference.md §2.4; values marked [std-memory] there are
+// Datasheet-class presets (docs/REFERENCES.md R2.4; values marked [std-memory] there are
 // typical datasheet figures, not measurements). SI units.
 struct Preset {
   const char* name;

@@ -1,10 +1,8 @@
 #include "trainsim/sim/movement.hpp"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
@@ -100,18 +98,15 @@ MovementReport runMovement(const Trajectory& trajectory,
     next = chunk->end;
     return chunk;
   };
+  // Chunks render in parallel (up to in_flight at once); within a chunk the readings render one
+  // after the other, since a heavy sensor parallelises its own frame (columns, tiles) in the
+  // same arena and light sensors are cheaper than a task each.
   auto render = [&](std::shared_ptr<Chunk> chunk) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk->jobs.size()),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        const int slot = tbb::this_task_arena::current_thread_index();
-                        if (slot >= 0 && slot < 64)
-                          render_slots.fetch_or(std::uint64_t{1} << slot,
-                                                std::memory_order_relaxed);
-                        for (std::size_t j = r.begin(); j < r.end(); ++j) {
-                          Chunk::Job& job = chunk->jobs[j];
-                          job.reading = sensors[job.sensor]->render(job.k);
-                        }
-                      });
+    const int slot = tbb::this_task_arena::current_thread_index();
+    if (slot >= 0 && slot < 64)
+      render_slots.fetch_or(std::uint64_t{1} << slot, std::memory_order_relaxed);
+    for (Chunk::Job& job : chunk->jobs)
+      job.reading = sensors[job.sensor]->render(job.k);
     return chunk;
   };
   auto commit = [&](std::shared_ptr<Chunk> chunk) {

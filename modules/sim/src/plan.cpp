@@ -176,8 +176,8 @@ Plan::Plan(std::shared_ptr<const RouteStage> route, std::shared_ptr<const Layout
 
 namespace {
 
-// The pipeline's stage table (PRODUCT.md §1). The first three are the plan's stages; each key
-// hashes exactly these sections.
+// The pipeline's stage table (docs/REFERENCES.md P1). The first three are the plan's stages;
+// each key hashes exactly these sections.
 constexpr const char* kRouteSections[] = {"seed", "geodetic_origin", "route", "design"};
 constexpr const char* kLayoutSections[] = {"seed", "layout"};
 constexpr const char* kMotionSections[] = {"train", "trajectory"};

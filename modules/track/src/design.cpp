@@ -9,7 +9,7 @@
 namespace trainsim::track {
 namespace {
 
-constexpr double kNoCantBelow_m_s = 40.0 / 3.6;  // rail-imu-reference.md §1.2 (Bane NOR)
+constexpr double kNoCantBelow_m_s = 40.0 / 3.6;  // docs/REFERENCES.md R1.2 (Bane NOR)
 
 double kmh(double v) {
   return v * 3.6;

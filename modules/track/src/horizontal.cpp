@@ -62,7 +62,8 @@ double sinc(double x) {
 }
 
 // 7-point Gauss–Legendre rule on [-1, 1] (exact for polynomials of degree 13). Hand-written
-// because none of the project's dependencies (PRODUCT.md §5) offers quadrature; Eigen has none.
+// because none of the project's dependencies (docs/REFERENCES.md P5) offers quadrature; Eigen
+// has none.
 constexpr std::array<double, 7> kNodes = {0.0,
                                           0.4058451513773971669066064,
                                           -0.4058451513773971669066064,

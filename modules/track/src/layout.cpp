@@ -267,7 +267,7 @@ Piece arc(double x0, double x1, double xt, double yt, double bend, double r, std
   return p;
 }
 
-// Turnout geometry in the plan of a straight main track (rail-imu-reference.md §1.5).
+// Turnout geometry in the plan of a straight main track (docs/REFERENCES.md R1.5).
 struct TurnoutGeometry {
   double r = 0.0;
   double sin_a = 0.0, cos_a = 0.0, one_minus_cos_a = 0.0;

@@ -13,7 +13,7 @@
 namespace trainsim::inertial {
 
 /// Error parameters of one sensor triad (accelerometer: m/s²; gyroscope: rad/s; magnetometer:
-/// T), IEEE-952 terms (rail-imu-reference.md §2.1–2.3). Zero switches a term off.
+/// T), IEEE-952 terms (docs/REFERENCES.md R2.1–R2.3). Zero switches a term off.
 struct TriadSpec {
   double noise_density = 0.0;           ///< white noise N, unit/√Hz: σ = N·√f_s per sample
   double random_walk = 0.0;             ///< rate random walk K, unit/√s (ADEV K·√(τ/3))
@@ -97,7 +97,7 @@ class TriadErrorModel {
 double gaussMarkovAllanVariance(double sigma, double tau_c, double tau);
 
 /// Overlapping Allan deviation of a rate signal sampled every dt at cluster size m
-/// (τ = m·dt), from its running integral (rail-imu-reference.md §2.1).
+/// (τ = m·dt), from its running integral (docs/REFERENCES.md R2.1).
 double allanDeviation(const std::vector<double>& rate, double dt, std::size_t m);
 
 }  // namespace trainsim::inertial

@@ -26,9 +26,10 @@ struct RunIdentity {
   std::uint64_t seed = 0;
 };
 
-/// Owns the dataset folder (PRODUCT.md §3): creates its layout, writes every file atomically,
-/// records checkpoints so that a killed run can be resumed byte-identically, and writes
-/// manifest.json last, as the mark of a complete dataset.
+/// Owns the dataset folder (layout: docs/REFERENCES.md P3; behaviour: docs/ARCHITECTURE.md,
+/// "The dataset folder"): creates its layout, writes every file atomically, records checkpoints
+/// so that a killed run can be resumed byte-identically, and writes manifest.json last, as the
+/// mark of a complete dataset.
 ///
 /// Folder rules: a missing or empty folder is used; a folder holding a dataset or an
 /// interrupted run is only reused with --force (start over) or --resume (continue, same

@@ -11,7 +11,7 @@
 
 namespace trainsim::positioning {
 
-/// Where balise groups lie along a track (rail-imu-reference.md §5, docs/REFERENCES.md).
+/// Where balise groups lie along a track (docs/REFERENCES.md R5).
 struct BalisePlacement {
   double first_group_m = 200.0;      ///< distance of the first group from the track start
   double group_spacing_m = 1000.0;   ///< between groups

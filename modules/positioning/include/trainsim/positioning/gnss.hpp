@@ -28,8 +28,8 @@ struct GnssErrors {
 };
 
 /// GNSS errors: first-order Gauss–Markov processes (exactly discretised, x' = φ x + σ √(1−φ²) n,
-/// φ = exp(−T/τ)) plus white noise, for position and velocity (rail-imu-reference.md §3,
-/// docs/REFERENCES.md). The first reading starts from the stationary distribution.
+/// φ = exp(−T/τ)) plus white noise, for position and velocity (docs/REFERENCES.md R3). The
+/// first reading starts from the stationary distribution.
 ///
 /// Random numbers are keyed by (seed, stream, reading index k), so a run's errors do not
 /// depend on threads or on where it was resumed; the Gauss–Markov states are carried in

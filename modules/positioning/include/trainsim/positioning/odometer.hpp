@@ -9,7 +9,7 @@
 
 namespace trainsim::positioning {
 
-/// A wheel encoder and how its wheel slips (rail-imu-reference.md §4, docs/REFERENCES.md).
+/// A wheel encoder and how its wheel slips (docs/REFERENCES.md R4).
 struct OdometerSpec {
   double wheel_diameter_m = 0.92;
   int pulses_per_revolution = 200;

@@ -41,9 +41,9 @@ struct GenerateReport {
 };
 
 /// Generates the dataset of a resolved scenario into options.out: every pipeline stage that
-/// exists, in order (PRODUCT.md §1). Throws ConfigError for unusable input or output folders,
-/// IoError and RuntimeError for failures while running, Cancelled on request. On failure the
-/// folder holds only complete frames and can be resumed.
+/// exists, in order (docs/REFERENCES.md P1). Throws ConfigError for unusable input or output
+/// folders, IoError and RuntimeError for failures while running, Cancelled on request. On
+/// failure the folder holds only complete frames and can be resumed.
 GenerateReport generate(const scenario::Scenario& scenario, const GenerateOptions& options);
 
 /// The run stage alone on a given trajectory with the given sensors (plus the frame clock):

@@ -50,9 +50,9 @@ class TrainTrajectory final : public Trajectory {
   std::int64_t count_;
 };
 
-/// The plan is a chain of immutable stages (PRODUCT.md §1, stages 1–3; later terrain and
-/// scene). Each is a pure function of the scenario sections it reads (pipelineStages()) and of
-/// the stages before it, and is identified by `key`, a hash of exactly those inputs, so a
+/// The plan is a chain of immutable stages (docs/REFERENCES.md P1, stages 1–3; later terrain
+/// and scene). Each is a pure function of the scenario sections it reads (pipelineStages()) and
+/// of the stages before it, and is identified by `key`, a hash of exactly those inputs, so a
 /// Planner can reuse a stage whose inputs did not change.
 struct RouteStage {
   std::uint64_t key = 0;
@@ -98,9 +98,9 @@ class Plan {
   std::vector<track::Violation> violations_;
 };
 
-/// One stage of the pipeline (PRODUCT.md §1): its name, what it makes, the scenario sections
-/// it reads (its key hashes them with the keys of the stages it builds on), and whether it is
-/// built yet. generate() reports the stages that are not as "not simulated yet".
+/// One stage of the pipeline (docs/REFERENCES.md P1): its name, what it makes, the scenario
+/// sections it reads (its key hashes them with the keys of the stages it builds on), and whether
+/// it is built yet. generate() reports the stages that are not as "not simulated yet".
 struct PipelineStage {
   const char* name;
   const char* description;

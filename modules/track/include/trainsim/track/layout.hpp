@@ -12,7 +12,7 @@
 namespace trainsim::track {
 
 /// A simple turnout: diverging-track radius at the track centreline and crossing angle
-/// tan α = 1/ratio (rail-imu-reference.md §1.5).
+/// tan α = 1/ratio (docs/REFERENCES.md R1.5).
 struct Turnout {
   std::string name;
   double radius_m;
@@ -91,12 +91,12 @@ struct Layout {
 ///   Right: offset −2d joining the double track, or −d joining the main track without one.
 ///   Each has an entering, a parallel and an outgoing part; each end is independently either a
 ///   turnout from the neighbouring track (diverging arc R through α, straight diagonal
-///   L_s = (d − 2R(1 − cos α)) / sin α, reverse arc R; §1.5) or a dead end (a straight of
-///   `dead_end_length_m` angled at α away from the neighbouring track and an arc R turning it
-///   parallel, so the buffer stop lies outside the parallel part). Auxiliary tracks on the
-///   same side keep max(20 m, d) of chainage between them. A candidate that would come closer
-///   than d to another track (possible only where the route runs back close to itself) is
-///   dropped.
+///   L_s = (d − 2R(1 − cos α)) / sin α, reverse arc R; docs/REFERENCES.md R1.5) or a dead
+///   end (a straight of `dead_end_length_m` angled at α away from the neighbouring track and an
+///   arc R turning it parallel, so the buffer stop lies outside the parallel part). Auxiliary
+///   tracks on the same side keep max(20 m, d) of chainage between them. A candidate that would
+///   come closer than d to another track (possible only where the route runs back close to
+///   itself) is dropped.
 /// - Not implemented: the paper's rule for curved main blocks (an entering/outgoing part made
 ///   of a single straight leaving the curve on its outer side); stretches beside curves and
 ///   transitions get no auxiliary tracks.

@@ -7,7 +7,7 @@
 
 namespace trainsim::track {
 
-/// Longitudinal limits of the train (rail-imu-reference.md §1.6).
+/// Longitudinal limits of the train (docs/REFERENCES.md R1.6).
 struct MotionLimits {
   double accel_m_s2 = 0.8;
   double brake_m_s2 = 0.6;  ///< service braking

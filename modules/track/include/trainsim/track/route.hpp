@@ -28,7 +28,7 @@ struct Block {
   bool stop = false;  ///< stations: the train stops here
 };
 
-/// Railway design limits (rail-imu-reference.md §1.2–1.4). Speeds in m/s, cant in m.
+/// Railway design limits (docs/REFERENCES.md R1.2–R1.4). Speeds in m/s, cant in m.
 struct DesignRules {
   double design_speed_m_s = 160.0 / 3.6;
   double max_cant_m = 0.160;

@@ -1,0 +1,18 @@
+# Golden output: the default scenario's dataset, file by file, against the SHA-256 digests in
+# tests/data/golden/default_dataset.sha256. A change that alters the output on purpose updates
+# the digests with: tests/regression/default_dataset.sh build/bin/trainsim - . --update
+source "$(dirname "$0")/../integration/lib.sh" "$@"
+golden="$SRC/tests/data/golden/default_dataset.sha256"
+expect_exit 0 "generate default" -- "$TRAINSIM" generate --out "$WORK/d" --progress none
+(cd "$WORK/d" && find . -type f | LC_ALL=C sort | xargs sha256sum) >"$WORK/digests"
+if [ "${4:-}" = "--update" ]; then
+  cp "$WORK/digests" "$golden"
+  echo "updated $golden"
+fi
+if diff -u "$golden" "$WORK/digests" >"$WORK/diff"; then
+  pass "default dataset matches the golden digests"
+else
+  fail "default dataset differs from the golden digests (tests/data/golden):"
+  cat "$WORK/diff" >&2
+fi
+finish
