@@ -78,6 +78,36 @@ TEST(Movement, RejectsPeriodsThatAreNotMultiplesOfTs) {
   fs::remove_all(out);
 }
 
+TEST(Movement, ASensorFailureStopsTheRunAndReachesTheCaller) {
+  // A render() that throws part-way: the run stops, the error reaches the caller, and the
+  // chunks in flight are released (the ASan job checks for leaks).
+  class Failing final : public SensorOf<int> {
+   public:
+    std::string name() const override { return "failing"; }
+    std::string kind() const override { return "test"; }
+    TimeNs period() const override { return 10; }
+    std::vector<std::string> outputs() const override { return {}; }
+    void begin(io::DatasetWriter&, const nlohmann::json&) override {}
+
+   private:
+    int read(std::int64_t k) const override {
+      if (k == 57)
+        throw RuntimeError("sensor failed at 57");
+      return 0;
+    }
+    void write(std::int64_t k, int&) override { EXPECT_LT(k, 57); }
+  };
+  const testing::StraightTrajectory traj(10, 400, 1.0);
+  std::vector<std::unique_ptr<Sensor>> sensors;
+  sensors.push_back(std::make_unique<Failing>());
+  const fs::path out = freshDir("failing");
+  io::DatasetWriter writer(out, "00", {"h", 1}, {});
+  MovementOptions options;
+  options.threads = 2;
+  EXPECT_THROW(runMovement(traj, sensors, writer, options), RuntimeError);
+  fs::remove_all(out);
+}
+
 TEST(Movement, ReadingsBeforeCountsFiringSamples) {
   EXPECT_EQ(readingsBefore(0, 10, 30), 0);
   EXPECT_EQ(readingsBefore(1, 10, 30), 1);

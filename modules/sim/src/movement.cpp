@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <bit>
+#include <exception>
+#include <mutex>
 
 #include "trainsim/core/error.hpp"
 
@@ -25,11 +27,6 @@ struct Chunk {
   std::int64_t end = 0;
   std::vector<Job> jobs;  // sample order, then sensor order
 };
-
-void checkCancel(const std::atomic<bool>* cancel, std::int64_t k) {
-  if (cancel && cancel->load(std::memory_order_relaxed))
-    throw Cancelled("run cancelled at sample " + std::to_string(k));
-}
 
 }  // namespace
 
@@ -81,13 +78,30 @@ MovementReport runMovement(const Trajectory& trajectory,
   if (options.progress)
     options.progress->begin("simulate", count, "samples", first);
   const std::int64_t every = std::max<std::int64_t>(1, options.checkpoint_every_samples);
+  // The first failure (a sensor's exception, or Cancelled) stops the source, lets the chunks in
+  // flight drain without work, and is rethrown after the pipeline: no exception crosses TBB, so
+  // no chunk in flight is left undestroyed.
+  std::mutex failure_mutex;
+  std::exception_ptr failure;
+  std::atomic<bool> failed{false};
+  auto fail = [&](std::exception_ptr e) {
+    const std::lock_guard lock(failure_mutex);
+    if (!failure)
+      failure = std::move(e);
+    failed = true;
+  };
+  auto cancelled = [&](std::int64_t k) {
+    if (options.cancel && options.cancel->load(std::memory_order_relaxed))
+      fail(std::make_exception_ptr(Cancelled("run cancelled at sample " + std::to_string(k))));
+    return failed.load();
+  };
+
   std::int64_t next = first;
   auto source = [&](tbb::flow_control& fc) -> std::shared_ptr<Chunk> {
-    if (next >= count) {
+    if (next >= count || cancelled(next)) {
       fc.stop();
       return nullptr;
     }
-    checkCancel(options.cancel, next);
     auto chunk = std::make_shared<Chunk>();
     chunk->begin = next;
     chunk->end = std::min(count, (next / every + 1) * every);
@@ -102,21 +116,32 @@ MovementReport runMovement(const Trajectory& trajectory,
   // after the other, since a heavy sensor parallelises its own frame (columns, tiles) in the
   // same arena and light sensors are cheaper than a task each.
   auto render = [&](std::shared_ptr<Chunk> chunk) {
+    if (failed)
+      return chunk;
     const int slot = tbb::this_task_arena::current_thread_index();
     if (slot >= 0 && slot < 64)
       render_slots.fetch_or(std::uint64_t{1} << slot, std::memory_order_relaxed);
-    for (Chunk::Job& job : chunk->jobs)
-      job.reading = sensors[job.sensor]->render(job.k);
+    try {
+      for (Chunk::Job& job : chunk->jobs)
+        job.reading = sensors[job.sensor]->render(job.k);
+    } catch (...) {
+      fail(std::current_exception());
+    }
     return chunk;
   };
   auto commit = [&](std::shared_ptr<Chunk> chunk) {
-    checkCancel(options.cancel, chunk->begin);
-    for (Chunk::Job& job : chunk->jobs)
-      sensors[job.sensor]->commit(job.k, job.reading);
-    if (options.progress && !chunk->jobs.empty())
-      options.progress->update(chunk->end);
-    if (chunk->end < count)
-      writer.checkpoint(chunk->end, state());
+    if (cancelled(chunk->begin))
+      return;
+    try {
+      for (Chunk::Job& job : chunk->jobs)
+        sensors[job.sensor]->commit(job.k, job.reading);
+      if (options.progress && !chunk->jobs.empty())
+        options.progress->update(chunk->end);
+      if (chunk->end < count)
+        writer.checkpoint(chunk->end, state());
+    } catch (...) {
+      fail(std::current_exception());
+    }
   };
   const auto in_flight = static_cast<std::size_t>(2 * threads + 1);
   arena.execute([&] {
@@ -128,6 +153,8 @@ MovementReport runMovement(const Trajectory& trajectory,
             tbb::make_filter<std::shared_ptr<Chunk>, void>(tbb::filter_mode::serial_in_order,
                                                            commit));
   });
+  if (failure)
+    std::rethrow_exception(failure);
   for (auto& s : sensors)
     s->end();
   writer.checkpoint(count, state());

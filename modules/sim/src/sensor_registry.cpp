@@ -71,8 +71,7 @@ std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context)
     const std::string path = fmt::format("sensors.{}", kind.key);
     const scenario::Json& list = context.scenario.at(path);
     for (std::size_t i = 0; i < list.size(); ++i)
-      sensors.push_back(
-          kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i), i}));
+      sensors.push_back(kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i)}));
   }
   return sensors;
 }

@@ -20,7 +20,7 @@ Turnout turnoutByName(const std::string& name) {
     if (t.name == name)
       return t;
   throw ConfigError(fmt::format(
-      "layout.turnout: unknown turnout \"{}\" (known: \"190-1:9\", \"500-1:12\")", name));
+      "layout.auxiliary.turnout: unknown turnout \"{}\" (known: \"190-1:9\", \"500-1:12\")", name));
 }
 
 namespace {
@@ -404,16 +404,17 @@ void validate(const LayoutParams& p) {
   require(std::isfinite(d) && d > 0.0, "track_centre_distance_m", d, "must be positive");
   require(std::isfinite(p.polyline_spacing_m) && p.polyline_spacing_m >= 0.01, "polyline_spacing_m",
           p.polyline_spacing_m, "is below the minimum 0.01 m");
-  require(p.aux_probability >= 0.0 && p.aux_probability <= 1.0, "aux_probability",
+  require(p.aux_probability >= 0.0 && p.aux_probability <= 1.0, "auxiliary.probability",
           p.aux_probability, "is outside [0, 1]");
-  require(p.turnout_probability >= 0.0 && p.turnout_probability <= 1.0, "turnout_probability",
-          p.turnout_probability, "is outside [0, 1]");
-  require(std::isfinite(p.aux_parallel_min_m) && p.aux_parallel_min_m > 0.0, "aux_parallel_min_m",
-          p.aux_parallel_min_m, "must be positive");
+  require(p.turnout_probability >= 0.0 && p.turnout_probability <= 1.0,
+          "auxiliary.turnout_probability", p.turnout_probability, "is outside [0, 1]");
+  require(std::isfinite(p.aux_parallel_min_m) && p.aux_parallel_min_m > 0.0,
+          "auxiliary.parallel_min_m", p.aux_parallel_min_m, "must be positive");
   require(std::isfinite(p.aux_parallel_max_m) && p.aux_parallel_max_m >= p.aux_parallel_min_m,
-          "aux_parallel_max_m", p.aux_parallel_max_m, "is below layout.aux_parallel_min_m");
-  require(std::isfinite(p.dead_end_length_m) && p.dead_end_length_m >= 0.0, "dead_end_length_m",
-          p.dead_end_length_m, "must not be negative");
+          "auxiliary.parallel_max_m", p.aux_parallel_max_m,
+          "is below layout.auxiliary.parallel_min_m");
+  require(std::isfinite(p.dead_end_length_m) && p.dead_end_length_m >= 0.0,
+          "auxiliary.dead_end_length_m", p.dead_end_length_m, "must not be negative");
 }
 
 TurnoutGeometry turnoutGeometry(const LayoutParams& p, bool turnouts_used) {

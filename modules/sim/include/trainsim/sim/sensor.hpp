@@ -92,12 +92,11 @@ struct SensorContext {
 };
 
 /// What a sensor factory gets: the run's context, the sensor's own resolved section (e.g.
-/// sensors.imus[0]), its JSON path (for messages) and its index within its kind.
+/// sensors.imus[0]) and its JSON path (for messages).
 struct SensorSetup {
   const SensorContext& context;
   const scenario::Json& config;
   std::string path;
-  std::size_t index = 0;
 };
 
 }  // namespace trainsim::sim

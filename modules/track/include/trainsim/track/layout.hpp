@@ -20,7 +20,7 @@ struct Turnout {
 };
 
 /// Known turnouts: "190-1:9" (R 190 m, 1:9) and "500-1:12" (R 500 m, 1:12). Throws ConfigError
-/// naming `layout.turnout` for any other name.
+/// naming `layout.auxiliary.turnout` for any other name.
 Turnout turnoutByName(const std::string& name);
 
 /// Which side of the main track auxiliary tracks are laid on (seen in the direction of
