@@ -10,6 +10,7 @@
 #include "trainsim/core/frames.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/scenario/scenario.hpp"
+#include "trainsim/sim/schema.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::studio {
@@ -218,9 +219,7 @@ std::vector<PlotRow> InertialPanel::gnssRows(const std::string& name) const {
   const scenario::Json& sc = dataset_->scenario;
   const scenario::Json* cfg = sensorConfig(sc, "gnss_receivers", name);
   const Eigen::Vector3d antenna = cfg ? sim::readMount(*cfg).position_m : Eigen::Vector3d::Zero();
-  const GeodeticAnchor anchor({sc["geodetic_origin"]["latitude_deg"].get<double>(),
-                               sc["geodetic_origin"]["longitude_deg"].get<double>(),
-                               sc["geodetic_origin"]["height_m"].get<double>()});
+  const GeodeticAnchor anchor = sim::geodeticAnchor(sc);
   const CsvTable& tr = tables_.at("trajectory.csv");
   QVector<double> t, de, dn, du, fix;
   for (int i = 0; i < g.rows; ++i) {

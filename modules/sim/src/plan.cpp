@@ -12,6 +12,7 @@
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
+#include "trainsim/sim/schema.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -134,7 +135,7 @@ TrainTrajectory::TrainTrajectory(std::shared_ptr<const RouteStage> route,
       count_(static_cast<std::int64_t>(std::ceil(motion_.duration() / toSeconds(period))) + 1) {}
 
 track::MotionState TrainTrajectory::motion(std::int64_t k) const {
-  return motion_.at(toSeconds(k * period_));
+  return motionAt(k * period_);
 }
 
 track::MotionState TrainTrajectory::motionAt(TimeNs t) const {
@@ -146,10 +147,10 @@ track::BodyState TrainTrajectory::body(const track::MotionState& m) const {
 }
 
 TrajectorySample TrainTrajectory::at(TimeNs t) const {
-  const track::MotionState m = motionAt(t);
-  const track::BodyState b = body(m);
   TrajectorySample s;
   s.t_ns = std::clamp<TimeNs>(t, 0, endTime());
+  const track::MotionState m = motion_.at(toSeconds(s.t_ns));
+  const track::BodyState b = body(m);
   s.chainage_m = b.front_track.chainage_m;
   s.distance_m = m.u_m;
   s.p_world = b.pointPosition(reference_);
@@ -229,12 +230,10 @@ std::shared_ptr<const RouteStage> buildRoute(const scenario::Scenario& sc, std::
       return track::buildBlockRoute(blockSpecs(sc), opt);
     if (source != "waypoints")
       return track::generateRoute(generatorParams(sc), opt, sc.seed());
-    const GeodeticAnchor anchor({sc.get<double>("geodetic_origin.latitude_deg"),
-                                 sc.get<double>("geodetic_origin.longitude_deg"),
-                                 sc.get<double>("geodetic_origin.height_m")});
     track::WaypointParams wp;
     wp.radius_max_m = sc.get<double>("route.waypoint_radius_max_m");
-    return track::importWaypoints(sc.get<std::string>("route.waypoints_file"), anchor, wp, opt);
+    return track::importWaypoints(sc.get<std::string>("route.waypoints_file"),
+                                  geodeticAnchor(sc.json()), wp, opt);
   };
   track::DesignedRoute route = route_of();
   std::vector<track::Violation> violations = route.fitting;

@@ -253,6 +253,12 @@ const Schema& scenarioSchema() {
   return schema;
 }
 
+GeodeticAnchor geodeticAnchor(const scenario::Json& scenario) {
+  const scenario::Json& o = scenario.at("geodetic_origin");
+  return GeodeticAnchor({o.at("latitude_deg").get<double>(), o.at("longitude_deg").get<double>(),
+                         o.at("height_m").get<double>()});
+}
+
 std::string_view defaultScenarioText() {
   return embedded::default_scenario_json;
 }

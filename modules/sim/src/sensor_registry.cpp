@@ -8,6 +8,7 @@
 
 #include "imu_sensor.hpp"
 #include "positioning_sensors.hpp"
+#include "trainsim/sim/schema.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 
 namespace trainsim::sim {
@@ -58,11 +59,7 @@ std::span<const SensorKind> sensorKinds() {
 
 SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
                                 const track::Route* route, const track::Layout* layout) {
-  return SensorContext{scenario,
-                       GeodeticAnchor({scenario.get<double>("geodetic_origin.latitude_deg"),
-                                       scenario.get<double>("geodetic_origin.longitude_deg"),
-                                       scenario.get<double>("geodetic_origin.height_m")}),
-                       trajectory, route, layout};
+  return SensorContext{scenario, geodeticAnchor(scenario.json()), trajectory, route, layout};
 }
 
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {

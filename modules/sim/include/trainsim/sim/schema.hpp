@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "trainsim/core/geodesy.hpp"
 #include "trainsim/scenario/scenario.hpp"
 #include "trainsim/scenario/schema.hpp"
 
@@ -13,6 +14,9 @@ namespace trainsim::sim {
 /// The complete scenario schema: the general sections declared here plus every section the
 /// pipeline's modules and the sensor registry declare. Built once.
 const scenario::Schema& scenarioSchema();
+
+/// The scenario's geodetic anchor (`geodetic_origin` of a resolved scenario document).
+GeodeticAnchor geodeticAnchor(const scenario::Json& scenario);
 
 /// The built-in default scenario (configs/default.json, embedded in the binary at build time).
 std::string_view defaultScenarioText();
