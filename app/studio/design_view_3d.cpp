@@ -115,7 +115,7 @@ DesignView3D::DesignView3D(QWidget* parent) : QWidget(parent), d_(std::make_uniq
   for (std::size_t i = 0; i < types.size(); ++i) {
     const Rgb c = blockColour(types[i]);
     double rgb[3] = {c.r / 255.0, c.g / 255.0, c.b / 255.0};
-    d_->legend->SetEntry(static_cast<int>(i), symbol, types[i].c_str(), rgb);
+    d_->legend->SetEntry(static_cast<int>(i), symbol, std::string(nameOf(types[i])).c_str(), rgb);
   }
   double red[3] = {0.85, 0.1, 0.1};
   d_->legend->SetEntry(static_cast<int>(types.size()), symbol, "rule violation", red);

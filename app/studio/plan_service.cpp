@@ -18,38 +18,44 @@ double labelStep(double length_m) {
   return 100000.0;
 }
 
-std::string typeAt(const track::LayoutTrack& t, double d) {
+track::LayoutBlockType typeAt(const track::LayoutTrack& t, double d) {
   for (const track::LayoutBlock& b : t.blocks) {
     if (d >= b.begin_m && d < b.end_m)
       return b.type;
   }
-  return t.blocks.empty() ? "straight" : t.blocks.back().type;
+  return t.blocks.empty() ? track::LayoutBlockType::kStraight : t.blocks.back().type;
 }
 
 }  // namespace
 
-const std::vector<std::string>& blockTypes() {
-  static const std::vector<std::string> types{"straight", "curve",   "station",  "tunnel",
-                                              "bridge",   "turnout", "parallel", "dead_end"};
-  return types;
+std::span<const track::LayoutBlockType> blockTypes() {
+  using enum track::LayoutBlockType;
+  static constexpr track::LayoutBlockType kLegend[] = {kStraight, kCurve,   kStation,  kTunnel,
+                                                       kBridge,   kTurnout, kParallel, kDeadEnd};
+  return kLegend;
 }
 
-Rgb blockColour(const std::string& type) {
-  if (type == "curve")
-    return {230, 140, 20};
-  if (type == "station")
-    return {40, 110, 230};
-  if (type == "tunnel")
-    return {120, 120, 120};
-  if (type == "bridge")
-    return {160, 60, 200};
-  if (type == "turnout")
-    return {220, 40, 140};
-  if (type == "parallel")
-    return {40, 170, 170};
-  if (type == "dead_end")
-    return {150, 100, 50};
-  return {40, 160, 60};  // straight
+Rgb blockColour(track::LayoutBlockType type) {
+  switch (type) {
+    case track::LayoutBlockType::kCurve:
+      return {230, 140, 20};
+    case track::LayoutBlockType::kStation:
+      return {40, 110, 230};
+    case track::LayoutBlockType::kTunnel:
+      return {120, 120, 120};
+    case track::LayoutBlockType::kBridge:
+      return {160, 60, 200};
+    case track::LayoutBlockType::kTurnout:
+    case track::LayoutBlockType::kSwitch:
+      return {220, 40, 140};
+    case track::LayoutBlockType::kParallel:
+      return {40, 170, 170};
+    case track::LayoutBlockType::kDeadEnd:
+      return {150, 100, 50};
+    case track::LayoutBlockType::kStraight:
+      break;
+  }
+  return {40, 160, 60};
 }
 
 std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario,

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,9 @@ namespace trainsim::studio {
 /// A track of the layout as the views draw it: its polyline and the block type of each segment.
 struct TrackLine {
   int id = 0;
-  std::string kind;  ///< "main", "double", "auxiliary"
+  track::TrackKind kind = track::TrackKind::kMain;
   std::vector<Eigen::Vector3d> points;
-  std::vector<std::string> segment_type;  ///< block type of segment i (points i → i+1)
+  std::vector<track::LayoutBlockType> segment_type;  ///< of segment i (points i → i+1)
 };
 
 /// A design-rule violation placed on the main track.
@@ -111,8 +112,8 @@ class PlanService : public QObject {
 struct Rgb {
   int r, g, b;
 };
-Rgb blockColour(const std::string& type);
+Rgb blockColour(track::LayoutBlockType type);
 /// Block types in legend order.
-const std::vector<std::string>& blockTypes();
+std::span<const track::LayoutBlockType> blockTypes();
 
 }  // namespace trainsim::studio

@@ -30,18 +30,18 @@ void PlanView2D::setPlan(std::shared_ptr<const PlanSnapshot> plan) {
   plot_->clearPlottables();
   plot_->clearItems();
   // One curve per block type per track, broken (NaN) between stretches of other types.
-  std::map<std::string, bool> in_legend;
+  std::map<track::LayoutBlockType, bool> in_legend;
   for (const TrackLine& t : plan->tracks) {
-    std::map<std::string, QCPCurve*> curves;
-    std::map<std::string, std::size_t> last_segment;
+    std::map<track::LayoutBlockType, QCPCurve*> curves;
+    std::map<track::LayoutBlockType, std::size_t> last_segment;
     for (std::size_t i = 0; i < t.segment_type.size(); ++i) {
-      const std::string& type = t.segment_type[i];
+      const track::LayoutBlockType type = t.segment_type[i];
       QCPCurve*& c = curves[type];
       if (c == nullptr) {
         c = new QCPCurve(plot_->xAxis, plot_->yAxis);
         const Rgb rgb = blockColour(type);
-        c->setPen(QPen(QColor(rgb.r, rgb.g, rgb.b), t.kind == "main" ? 2.5 : 1.6));
-        c->setName(QString::fromStdString(type));
+        c->setPen(QPen(QColor(rgb.r, rgb.g, rgb.b), t.kind == track::TrackKind::kMain ? 2.5 : 1.6));
+        c->setName(QString::fromUtf8(nameOf(type).data(), static_cast<int>(nameOf(type).size())));
         if (in_legend[type])
           c->removeFromLegend();
         in_legend[type] = true;

@@ -69,7 +69,7 @@ TEST(PipelineStages, StagesNotRunComeFromTheTable) {
       expected.emplace_back(s.description);
   EXPECT_EQ(stagesNotRun(), expected);
   EXPECT_FALSE(expected.empty());
-  EXPECT_STREQ(pipelineStages()[0].name, "route");
+  EXPECT_EQ(pipelineStages()[0].name, "route");
 }
 
 }  // namespace

@@ -170,9 +170,9 @@ TEST(BlockRoute, CurveGeometryIsTheGivenOneInClosedForm) {
   // cant, a 200 m station climbing 2 permille, then a right curve with automatic transitions.
   std::vector<BlockSpec> blocks(4);
   blocks[0].length_m = 300.0;
-  blocks[1] = {BlockType::kCurve, 80.0, 1500.0, true, 60.0, 0.100, 0.0};
-  blocks[2] = {BlockType::kStation, 200.0, 0.0, true, -1.0, -1.0, 0.002};
-  blocks[3] = {BlockType::kCurve, 150.0, 2000.0, false, -1.0, -1.0, 0.002};
+  blocks[1] = {BlockType::kCurve, 80.0, 1500.0, Turn::kLeft, 60.0, 0.100, 0.0};
+  blocks[2] = {BlockType::kStation, 200.0, 0.0, Turn::kLeft, -1.0, -1.0, 0.002};
+  blocks[3] = {BlockType::kCurve, 150.0, 2000.0, Turn::kRight, -1.0, -1.0, 0.002};
   const DesignedRoute r = buildBlockRoute(blocks, opt);
   ASSERT_EQ(r.route.blocks.size(), 4u);
   const Block& c = r.route.blocks[1];
@@ -194,7 +194,7 @@ TEST(BlockRoute, CurveGeometryIsTheGivenOneInClosedForm) {
   EXPECT_DOUBLE_EQ(back[1].transition_m, 60.0);
   EXPECT_GE(back[3].transition_m, 20.0);
   EXPECT_EQ(std::fmod(back[3].transition_m, 5.0), 0.0);
-  EXPECT_FALSE(back[3].left);
+  EXPECT_EQ(back[3].direction, Turn::kRight);
   // Station on a 2 permille climb, stopping the train; a vertical curve joins the grades.
   EXPECT_TRUE(r.route.blocks[2].stop);
   EXPECT_EQ(r.stops.size(), 1u);
@@ -247,7 +247,7 @@ TEST(BlockRoute, UnbuildableBlocksNameTheirIndex) {
   RouteOptions opt;
   std::vector<BlockSpec> blocks(2);
   blocks[0].length_m = 100.0;
-  blocks[1] = {BlockType::kCurve, 50.0, 0.0, true, -1.0, -1.0, 0.0};
+  blocks[1] = {BlockType::kCurve, 50.0, 0.0, Turn::kLeft, -1.0, -1.0, 0.0};
   try {
     buildBlockRoute(blocks, opt);
     FAIL() << "a curve without radius was laid out";

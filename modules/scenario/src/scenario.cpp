@@ -118,4 +118,24 @@ Json::json_pointer pointerFromPath(std::string_view path) {
   return Json::json_pointer(pointer);
 }
 
+namespace {
+constexpr const char* kSeed = "seed";
+constexpr double kMaxSafeInteger = 9007199254740991.0;  // 2^53 - 1, exact in every JSON reader
+}  // namespace
+
+Param seedParam() {
+  return integer(kSeed, 1, "",
+                 "Master seed; every random stream is keyed by (seed, stream name, index)")
+      .range(0, kMaxSafeInteger);
+}
+
+void overrideSeed(Json& input, std::uint64_t seed) {
+  if (input.is_object())
+    input[kSeed] = seed;
+}
+
+std::uint64_t Scenario::seed() const {
+  return resolved_.at(kSeed).get<std::uint64_t>();
+}
+
 }  // namespace trainsim::scenario

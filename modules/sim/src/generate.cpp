@@ -4,6 +4,7 @@
 
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/version.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/frame_clock.hpp"
 #include "trainsim/sim/movement.hpp"
 #include "trainsim/sim/plan.hpp"
@@ -31,7 +32,7 @@ nlohmann::json manifest(const scenario::Scenario& scenario, const std::string& s
       {"sequence", sequence},
       {"sequence_dir", sequence_dir},
       {"trajectory",
-       {{"sample_period_ns", scenario.get<std::int64_t>("trajectory.sample_period_ns")},
+       {{"sample_period_ns", trajectorySection().read(scenario.json()).sample_period_ns},
         {"samples", trajectory ? trajectory->sampleCount() : 0}}},
       {"frames", frames},
       {"sensors", sensors},
@@ -48,7 +49,8 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
                           const std::function<void(io::DatasetWriter&)>& write_plan) {
   GenerateReport report;
   report.not_run = std::move(not_run);
-  const std::string sequence = fmt::format("{:02}", scenario.get<int>("dataset.sequence"));
+  const DatasetConfig dataset = datasetSection().read(scenario.json());
+  const std::string sequence = fmt::format("{:02}", dataset.sequence);
   io::DatasetWriter writer(options.out, sequence, {scenario.hash(), scenario.seed()},
                            options.policy);
   const std::filesystem::path sequence_dir = writer.sequenceDir().lexically_relative(writer.root());
@@ -61,7 +63,7 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     write_plan(writer);
 
   if (trajectory != nullptr) {
-    const TimeNs frame_period = scenario.get<TimeNs>("dataset.frame_period_ns");
+    const TimeNs frame_period = dataset.frame_period_ns;
     sensors.insert(sensors.begin(), std::make_unique<FrameClock>(frame_period, *trajectory));
     MovementOptions movement;
     movement.checkpoint_every_samples = frame_period / trajectory->samplePeriod();

@@ -21,16 +21,24 @@ namespace trainsim::sim {
 namespace {
 
 using scenario::Json;
-using scenario::number;
-using scenario::object;
+namespace units = scenario::units;
 
 constexpr double kDeg = kRadPerDeg;
 constexpr double kG = kStandardGravity_m_s2;
 
+enum class ImuPreset { kIndustrial, kConsumer, kTactical, kIdeal, kCustom };
+constexpr EnumName<ImuPreset> kImuPresetNames[] = {{ImuPreset::kIndustrial, "industrial"},
+                                                   {ImuPreset::kConsumer, "consumer"},
+                                                   {ImuPreset::kTactical, "tactical"},
+                                                   {ImuPreset::kIdeal, "ideal"},
+                                                   {ImuPreset::kCustom, "custom"}};
+constexpr std::span<const EnumName<ImuPreset>> enumNames(ImuPreset) {
+  return kImuPresetNames;
+}
+
 // Datasheet-class presets (docs/REFERENCES.md R2.4; values marked [std-memory] there are
 // typical datasheet figures, not measurements). SI units.
 struct Preset {
-  const char* name;
   inertial::TriadSpec accel;
   inertial::TriadSpec gyro;
 };
@@ -49,61 +57,139 @@ inertial::TriadSpec triad(double nd, double k, double b, double on, double sf, d
   return t;
 }
 
-std::optional<Preset> preset(const std::string& name) {
-  if (name == "consumer")  // Bosch BMI088 class: ±24 g, ±2000 °/s, 16 bit
-    return Preset{
-        "consumer", triad(1.7e-3, 1.0e-4, 3.0e-4, 0.02, 2e-3, 1e-3, 24 * kG, 48 * kG / 65536),
-        triad(2.4e-4, 2.0e-5, 9.7e-6, 0.5 * kDeg, 2e-3, 1e-3, 2000 * kDeg, 4000 * kDeg / 65536)};
-  if (name == "industrial")  // ADIS16465-1 class: ±8 g, ±125 °/s, 32-bit output
-    return Preset{"industrial", triad(2.0e-4, 1.0e-5, 3.5e-5, 2e-3, 5e-4, 2e-4, 8 * kG, 0.0),
-                  triad(4.4e-5, 1.0e-6, 9.7e-6, 0.1 * kDeg, 5e-4, 2e-4, 125 * kDeg, 0.0)};
-  if (name == "tactical")  // Sensonor STIM300 class: ±10 g, ±400 °/s
-    return Preset{"tactical", triad(1.2e-3, 5.0e-5, 4.9e-4, 7.4e-3, 3e-4, 1e-4, 10 * kG, 0.0),
-                  triad(4.4e-5, 2.0e-7, 2.4e-6, 4.0 * kDeg / 3600, 3e-4, 1e-4, 400 * kDeg, 0.0)};
-  if (name == "ideal")
-    return Preset{"ideal", {}, {}};
-  return std::nullopt;
+Preset preset(ImuPreset name) {
+  switch (name) {
+    case ImuPreset::kConsumer:  // Bosch BMI088 class: ±24 g, ±2000 °/s, 16 bit
+      return {
+          triad(1.7e-3, 1.0e-4, 3.0e-4, 0.02, 2e-3, 1e-3, 24 * kG, 48 * kG / 65536),
+          triad(2.4e-4, 2.0e-5, 9.7e-6, 0.5 * kDeg, 2e-3, 1e-3, 2000 * kDeg, 4000 * kDeg / 65536)};
+    case ImuPreset::kIndustrial:  // ADIS16465-1 class: ±8 g, ±125 °/s, 32-bit output
+      return {triad(2.0e-4, 1.0e-5, 3.5e-5, 2e-3, 5e-4, 2e-4, 8 * kG, 0.0),
+              triad(4.4e-5, 1.0e-6, 9.7e-6, 0.1 * kDeg, 5e-4, 2e-4, 125 * kDeg, 0.0)};
+    case ImuPreset::kTactical:  // Sensonor STIM300 class: ±10 g, ±400 °/s
+      return {triad(1.2e-3, 5.0e-5, 4.9e-4, 7.4e-3, 3e-4, 1e-4, 10 * kG, 0.0),
+              triad(4.4e-5, 2.0e-7, 2.4e-6, 4.0 * kDeg / 3600, 3e-4, 1e-4, 400 * kDeg, 0.0)};
+    case ImuPreset::kIdeal:
+    case ImuPreset::kCustom:
+      break;
+  }
+  return {};
 }
 
-scenario::Param triadParams(const std::string& key, const std::string& what, const std::string& u,
-                            bool gyro) {
-  std::vector<scenario::Param> f = {
-      number("noise_density_" + u + "_rthz", 0, u + "/sqrt(Hz)", "White noise density N"),
-      number("random_walk_" + u + "_rts", 0, u + "/sqrt(s)", "Rate random walk K"),
-      number("bias_instability_" + u, 0, u, "Bias instability B (Allan floor 0.664 B)"),
-      number("bias_instability_tau_s", 100, "s", "Cluster time at the middle of the floor")
-          .range(0.01, 1e6),
-      number("turn_on_bias_" + u, 0, u, "1-sigma per-run constant bias"),
-      number("scale_factor_ppm", 0, "ppm", "1-sigma per-run scale-factor error"),
-      number("misalignment_mrad", 0, "mrad", "1-sigma per-run cross-axis coupling"),
-      number("range_" + u, 0, u, "Saturation at +-range; 0: none"),
-      number("resolution_" + u, 0, u, "Quantization step (LSB); 0: none"),
-      number("temperature_coefficient_" + u + "_k", 0, u + "/K", "Bias per kelvin")};
+struct MagnetometerConfig {
+  bool enabled = true;
+  double noise_density_t_rthz = 1e-8;
+  double hard_iron_t = 2e-6;
+  double soft_iron = 0.02;
+  double resolution_t = 0.0;
+};
+
+struct TemperatureConfig {
+  double reference_c = 25.0;
+  double start_c = 25.0;
+  double rate_c_s = 0.0;
+};
+
+// sensors.imus[]
+struct ImuConfig {
+  SensorBasics basics{"imu", 10'000'000, {}};
+  ImuPreset preset = ImuPreset::kIndustrial;
+  bool earth_rotation = true;
+  inertial::TriadSpec accelerometer, gyroscope;  // preset "custom"
+  MagnetometerConfig magnetometer;
+  TemperatureConfig temperature;
+
+  inertial::TriadSpec triad(bool gyro) const {
+    if (preset == ImuPreset::kCustom)
+      return gyro ? gyroscope : accelerometer;
+    const Preset p = trainsim::sim::preset(preset);
+    return gyro ? p.gyro : p.accel;
+  }
+};
+
+// The custom error terms of a triad; `u` is its unit in keys ("m_s2", "rad_s").
+scenario::Binding<inertial::TriadSpec> triadBinding(const std::string& u, bool gyro) {
+  using T = inertial::TriadSpec;
+  scenario::Binding<T> b;
+  const auto add = [&](const std::string& key, double T::*m, const std::string& unit,
+                       const std::string& description, scenario::Unit conversion = units::kNone,
+                       std::optional<scenario::Sentinel> sentinel = std::nullopt) {
+    scenario::Param& p = b.number(key, m, conversion, description, sentinel);
+    p.unit = unit;
+    p.range(0, std::nullopt);
+    return &p;
+  };
+  add("noise_density_" + u + "_rthz", &T::noise_density, u + "/sqrt(Hz)", "White noise density N");
+  add("random_walk_" + u + "_rts", &T::random_walk, u + "/sqrt(s)", "Rate random walk K");
+  add("bias_instability_" + u, &T::bias_instability, u, "Bias instability B (Allan floor 0.664 B)");
+  add("bias_instability_tau_s", &T::bias_instability_tau_s, "s",
+      "Cluster time at the middle of the floor")
+      ->range(0.01, 1e6);
+  add("turn_on_bias_" + u, &T::turn_on_bias, u, "1-sigma per-run constant bias");
+  add("scale_factor_ppm", &T::scale_factor, "ppm", "1-sigma per-run scale-factor error",
+      units::kPpm);
+  add("misalignment_mrad", &T::misalignment_rad, "mrad", "1-sigma per-run cross-axis coupling",
+      units::kMilliradian);
+  add("range_" + u, &T::range, u, "Saturation at +-range; 0: none", units::kNone,
+      scenario::Sentinel{0.0, std::numeric_limits<double>::infinity()});
+  add("resolution_" + u, &T::resolution, u, "Quantization step (LSB); 0: none");
+  add("temperature_coefficient_" + u + "_k", &T::temperature_coefficient, u + "/K",
+      "Bias per kelvin");
   if (gyro)
-    f.push_back(number("g_sensitivity_rad_s_per_m_s2", 0, "(rad/s)/(m/s^2)",
-                       "1-sigma of each g-sensitivity term"));
-  for (auto& p : f)
-    if (!p.minimum)
-      p.range(0, std::nullopt);
-  return object(key, what + " error terms (used when preset is \"custom\")", std::move(f));
+    add("g_sensitivity_rad_s_per_m_s2", &T::g_sensitivity, "(rad/s)/(m/s^2)",
+        "1-sigma of each g-sensitivity term");
+  return b;
 }
 
-inertial::TriadSpec customTriad(const Json& c, const std::string& u, bool gyro) {
-  inertial::TriadSpec t;
-  t.noise_density = c.at("noise_density_" + u + "_rthz").get<double>();
-  t.random_walk = c.at("random_walk_" + u + "_rts").get<double>();
-  t.bias_instability = c.at("bias_instability_" + u).get<double>();
-  t.bias_instability_tau_s = c.at("bias_instability_tau_s").get<double>();
-  t.turn_on_bias = c.at("turn_on_bias_" + u).get<double>();
-  t.scale_factor = c.at("scale_factor_ppm").get<double>() * 1e-6;
-  t.misalignment_rad = c.at("misalignment_mrad").get<double>() * 1e-3;
-  const double range = c.at("range_" + u).get<double>();
-  t.range = range > 0 ? range : std::numeric_limits<double>::infinity();
-  t.resolution = c.at("resolution_" + u).get<double>();
-  t.temperature_coefficient = c.at("temperature_coefficient_" + u + "_k").get<double>();
-  if (gyro)
-    t.g_sensitivity = c.at("g_sensitivity_rad_s_per_m_s2").get<double>();
-  return t;
+const scenario::Binding<ImuConfig>& imuBinding() {
+  static const scenario::Binding<inertial::TriadSpec> accel = triadBinding("m_s2", false),
+                                                      gyro = triadBinding("rad_s", true);
+  static const scenario::Binding<MagnetometerConfig> magnetometer = [] {
+    using M = MagnetometerConfig;
+    scenario::Binding<M> b;
+    b.boolean("enabled", &M::enabled, "Write the magnetometer columns (else zeros)");
+    b.number("noise_density_t_rthz", &M::noise_density_t_rthz, units::si("T/sqrt(Hz)"),
+             "White noise density")
+        .range(0, 1e-3);
+    b.number("hard_iron_t", &M::hard_iron_t, units::si("T"), "1-sigma per-run hard-iron offset")
+        .range(0, 1e-3);
+    b.number("soft_iron", &M::soft_iron, units::kNone, "1-sigma per-run soft-iron matrix deviation")
+        .range(0, 1);
+    b.number("resolution_t", &M::resolution_t, units::si("T"), "Quantization step; 0: none")
+        .range(0, 1e-4);
+    return b;
+  }();
+  static const scenario::Binding<TemperatureConfig> temperature = [] {
+    using T = TemperatureConfig;
+    scenario::Binding<T> b;
+    const scenario::Unit c = units::si("degC");
+    b.number("reference_c", &T::reference_c, c, "Calibration temperature").range(-60, 120);
+    b.number("start_c", &T::start_c, c, "Temperature at t = 0").range(-60, 120);
+    b.number("rate_c_s", &T::rate_c_s, units::si("degC/s"), "Temperature ramp").range(-1, 1);
+    return b;
+  }();
+  static const scenario::Binding<ImuConfig> binding = [] {
+    scenario::Binding<ImuConfig> b;
+    b.embed(&ImuConfig::basics,
+            sensorBasics({"<name>.csv and <name>_truth.csv", 100'000, 1'000'000'000,
+                          "Output period (100 Hz by default)", "Pose of the sensor's axes"}));
+    b.choice("preset", &ImuConfig::preset,
+             "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal (noise-free), "
+             "or custom (the accelerometer/gyroscope fields below)");
+    b.boolean("earth_rotation", &ImuConfig::earth_rotation,
+              "Rotating WGS-84 Earth (normal gravity at each position, Earth rate); false: flat, "
+              "non-rotating Earth with the anchor's gravity");
+    b.object("accelerometer", &ImuConfig::accelerometer, accel,
+             "Accelerometer error terms (used when preset is \"custom\")");
+    b.object("gyroscope", &ImuConfig::gyroscope, gyro,
+             "Gyroscope error terms (used when preset is \"custom\")");
+    b.object("magnetometer", &ImuConfig::magnetometer, magnetometer,
+             "Magnetometer on a dipole Earth field, with hard and soft iron");
+    b.object("temperature", &ImuConfig::temperature, temperature,
+             "Sensor temperature: start + rate * t, bias per kelvin from reference");
+    return b;
+  }();
+  return binding;
 }
 
 // What render() computes for one reading: the truth at the sensor (pure in the trajectory).
@@ -116,48 +202,39 @@ struct ImuTruthReading {
 class ImuSensor final : public SensorOf<ImuTruthReading> {
  public:
   explicit ImuSensor(const SensorSetup& setup)
+      : ImuSensor(setup, imuBinding().read(setup.config)) {}
+  ImuSensor(const SensorSetup& setup, const ImuConfig& c)
       : trajectory_(setup.context.trajectory),
-        name_(readSensorName(setup.config)),
-        period_(readPeriod(setup.config)),
-        mount_(readMount(setup.config)),
-        earth_(setup.context.anchor.origin(), setup.config.at("earth_rotation").get<bool>()),
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        mount_(c.basics.mount.mount()),
+        earth_(setup.context.anchor.origin(), c.earth_rotation),
         gravity_([this] { return inertial::LocalGravity(earth_); }),
         field_model_(setup.context.anchor),
-        accel_(spec(setup, "accelerometer"),
-               RandomStream(setup.context.scenario.seed(), name_ + ".accel"), toSeconds(period_)),
-        gyro_(spec(setup, "gyroscope"),
-              RandomStream(setup.context.scenario.seed(), name_ + ".gyro"), toSeconds(period_)),
-        mag_(magSpec(setup.config.at("magnetometer")),
-             RandomStream(setup.context.scenario.seed(), name_ + ".mag"), toSeconds(period_)),
-        mag_on_(setup.config.at("magnetometer").at("enabled").get<bool>()) {
-    const Json& t = setup.config.at("temperature");
-    t_start_ = t.at("start_c").get<double>() - t.at("reference_c").get<double>();
-    t_rate_ = t.at("rate_c_s").get<double>();
+        accel_(c.triad(false), RandomStream(setup.context.scenario.seed(), name_ + ".accel"),
+               toSeconds(period_)),
+        gyro_(c.triad(true), RandomStream(setup.context.scenario.seed(), name_ + ".gyro"),
+              toSeconds(period_)),
+        mag_(magSpec(c.magnetometer), RandomStream(setup.context.scenario.seed(), name_ + ".mag"),
+             toSeconds(period_)),
+        mag_on_(c.magnetometer.enabled),
+        t_start_(c.temperature.start_c - c.temperature.reference_c),
+        t_rate_(c.temperature.rate_c_s) {
     // Hard and soft iron: per-run draws.
     const RandomStream iron(setup.context.scenario.seed(), name_ + ".mag.iron");
-    const auto a = iron.normal4(0), b = iron.normal4(1), c = iron.normal4(2);
-    const double hard = setup.config.at("magnetometer").at("hard_iron_t").get<double>();
-    const double soft = setup.config.at("magnetometer").at("soft_iron").get<double>();
+    const auto a = iron.normal4(0), b = iron.normal4(1), c4 = iron.normal4(2);
+    const double hard = c.magnetometer.hard_iron_t;
+    const double soft = c.magnetometer.soft_iron;
     hard_iron_ = hard * Eigen::Vector3d(a[0], a[1], a[2]);
     soft_iron_ = Eigen::Matrix3d::Identity() +
-                 soft * (Eigen::Matrix3d() << a[3], b[0], b[1], b[0], b[2], b[3], b[1], b[3], c[0])
+                 soft * (Eigen::Matrix3d() << a[3], b[0], b[1], b[0], b[2], b[3], b[1], b[3], c4[0])
                             .finished();  // symmetric
   }
 
-  static inertial::TriadSpec spec(const SensorSetup& setup, const std::string& which) {
-    const std::string name = setup.config.at("preset").get<std::string>();
-    const bool gyro = which == "gyroscope";
-    if (name == "custom")
-      return customTriad(setup.config.at(which), gyro ? "rad_s" : "m_s2", gyro);
-    const auto p = preset(name);
-    if (!p)
-      throw ConfigError(fmt::format("{}.preset: unknown preset '{}'", setup.path, name));
-    return gyro ? p->gyro : p->accel;
-  }
-  static inertial::TriadSpec magSpec(const Json& m) {
+  static inertial::TriadSpec magSpec(const MagnetometerConfig& m) {
     inertial::TriadSpec t;
-    t.noise_density = m.at("noise_density_t_rthz").get<double>();
-    t.resolution = m.at("resolution_t").get<double>();
+    t.noise_density = m.noise_density_t_rthz;
+    t.resolution = m.resolution_t;
     return t;
   }
 
@@ -250,34 +327,10 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
 }  // namespace
 
 scenario::Param declareImu() {
-  return object(
+  return imuBinding().declare(
       "imu",
       "A 9-axis IMU on the carbody. Columns in the sensor's own axes; imu.csv is the "
-      "measurement, <name>_truth.csv the true specific force, rate, field and biases.",
-      {declareSensorName("imu", "<name>.csv and <name>_truth.csv"),
-       declarePeriod(10'000'000, 100'000, 1'000'000'000, "Output period (100 Hz by default)"),
-       declareMount("Pose of the sensor's axes"),
-       scenario::choice("preset", "industrial",
-                        {"industrial", "consumer", "tactical", "ideal", "custom"},
-                        "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal "
-                        "(noise-free), or custom (the accelerometer/gyroscope fields below)"),
-       scenario::boolean("earth_rotation", true,
-                         "Rotating WGS-84 Earth (normal gravity at each position, Earth rate); "
-                         "false: flat, non-rotating Earth with the anchor's gravity"),
-       triadParams("accelerometer", "Accelerometer", "m_s2", false),
-       triadParams("gyroscope", "Gyroscope", "rad_s", true),
-       object(
-           "magnetometer", "Magnetometer on a dipole Earth field, with hard and soft iron",
-           {scenario::boolean("enabled", true, "Write the magnetometer columns (else zeros)"),
-            number("noise_density_t_rthz", 1e-8, "T/sqrt(Hz)", "White noise density")
-                .range(0, 1e-3),
-            number("hard_iron_t", 2e-6, "T", "1-sigma per-run hard-iron offset").range(0, 1e-3),
-            number("soft_iron", 0.02, "", "1-sigma per-run soft-iron matrix deviation").range(0, 1),
-            number("resolution_t", 0, "T", "Quantization step; 0: none").range(0, 1e-4)}),
-       object("temperature", "Sensor temperature: start + rate * t, bias per kelvin from reference",
-              {number("reference_c", 25, "degC", "Calibration temperature").range(-60, 120),
-               number("start_c", 25, "degC", "Temperature at t = 0").range(-60, 120),
-               number("rate_c_s", 0, "degC/s", "Temperature ramp").range(-1, 1)})});
+      "measurement, <name>_truth.csv the true specific force, rate, field and biases.");
 }
 
 std::unique_ptr<Sensor> createImu(const SensorSetup& setup) {

@@ -12,116 +12,10 @@
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/schema.hpp"
 
 namespace trainsim::sim {
-namespace {
-
-double fromKmh(double v) {
-  return v / 3.6;
-}
-
-track::DesignRules designRules(const scenario::Scenario& sc) {
-  track::DesignRules r;
-  r.design_speed_m_s = fromKmh(sc.get<double>("design.design_speed_km_h"));
-  r.max_cant_m = sc.get<double>("design.max_cant_mm") * 1e-3;
-  r.max_cant_deficiency_m = sc.get<double>("design.max_cant_deficiency_mm") * 1e-3;
-  r.max_cant_rate_m_s = sc.get<double>("design.max_cant_rate_mm_s") * 1e-3;
-  r.max_deficiency_rate_m_s = sc.get<double>("design.max_deficiency_rate_mm_s") * 1e-3;
-  r.max_cant_gradient = sc.get<double>("design.max_cant_gradient_mm_m") * 1e-3;
-  r.min_element_duration_s = sc.get<double>("design.min_element_duration_s");
-  r.max_grade = sc.get<double>("design.max_grade_permille") * 1e-3;
-  r.max_vertical_accel_m_s2 = sc.get<double>("design.max_vertical_accel_m_s2");
-  r.station_max_grade = sc.get<double>("design.station_max_grade_permille") * 1e-3;
-  r.station_max_cant_m = sc.get<double>("design.station_max_cant_mm") * 1e-3;
-  r.station_speed_m_s = fromKmh(sc.get<double>("design.station_speed_km_h"));
-  r.tunnel_speed_m_s = fromKmh(sc.get<double>("design.tunnel_speed_km_h"));
-  r.bridge_speed_m_s = fromKmh(sc.get<double>("design.bridge_speed_km_h"));
-  return r;
-}
-
-track::SpecialBlockParams special(const scenario::Scenario& sc, const std::string& key) {
-  const std::string p = "route.generator." + key + ".";
-  return {sc.get<double>(p + "probability"), sc.get<double>(p + "length_min_m"),
-          sc.get<double>(p + "length_max_m")};
-}
-
-track::RouteGeneratorParams generatorParams(const scenario::Scenario& sc) {
-  track::RouteGeneratorParams g;
-  g.length_m = sc.get<double>("route.generator.length_m");
-  g.radius_min_m = sc.get<double>("route.generator.radius_min_m");
-  g.radius_max_m = sc.get<double>("route.generator.radius_max_m");
-  g.curve_share = sc.get<double>("route.generator.curve_share");
-  g.arc_length_min_m = sc.get<double>("route.generator.arc_length_min_m");
-  g.arc_length_max_m = sc.get<double>("route.generator.arc_length_max_m");
-  g.station = special(sc, "station");
-  g.tunnel = special(sc, "tunnel");
-  g.bridge = special(sc, "bridge");
-  g.grade_max = sc.get<double>("route.generator.grade_max_permille") * 1e-3;
-  g.grade_length_min_m = sc.get<double>("route.generator.grade_length_min_m");
-  g.grade_length_max_m = sc.get<double>("route.generator.grade_length_max_m");
-  return g;
-}
-
-track::BlockType blockTypeOf(const std::string& name) {
-  for (track::BlockType t :
-       {track::BlockType::kStraight, track::BlockType::kCurve, track::BlockType::kStation,
-        track::BlockType::kTunnel, track::BlockType::kBridge}) {
-    if (track::blockTypeName(t) == name)
-      return t;
-  }
-  throw RuntimeError("route.blocks: unknown block type " + name + " (schema/code mismatch)");
-}
-
-std::vector<track::BlockSpec> blockSpecs(const scenario::Scenario& sc) {
-  std::vector<track::BlockSpec> out;
-  for (const scenario::Json& b : sc.at("route.blocks")) {
-    track::BlockSpec spec;
-    spec.type = blockTypeOf(b["type"].get<std::string>());
-    spec.length_m = b["length_m"].get<double>();
-    spec.radius_m = b["radius_m"].get<double>();
-    spec.left = b["direction"] == "left";
-    spec.transition_m = b["transition_m"].get<double>();
-    const double cant_mm = b["cant_mm"].get<double>();
-    spec.cant_m = cant_mm < 0.0 ? -1.0 : cant_mm * 1e-3;
-    spec.grade = b["grade_permille"].get<double>() * 1e-3;
-    out.push_back(spec);
-  }
-  return out;
-}
-
-track::LayoutParams layoutParams(const scenario::Scenario& sc) {
-  track::LayoutParams l;
-  l.double_track = sc.get<bool>("layout.double_track");
-  l.track_centre_distance_m = sc.get<double>("layout.track_centre_distance_m");
-  l.polyline_spacing_m = sc.get<double>("layout.polyline_spacing_m");
-  l.aux_probability = sc.get<double>("layout.auxiliary.probability");
-  l.aux_parallel_min_m = sc.get<double>("layout.auxiliary.parallel_min_m");
-  l.aux_parallel_max_m = sc.get<double>("layout.auxiliary.parallel_max_m");
-  l.turnout_probability = sc.get<double>("layout.auxiliary.turnout_probability");
-  l.turnout = sc.get<std::string>("layout.auxiliary.turnout");
-  l.dead_end_length_m = sc.get<double>("layout.auxiliary.dead_end_length_m");
-  const std::string side = sc.get<std::string>("layout.auxiliary.side");
-  l.side = side == "left"    ? track::AuxSide::kLeft
-           : side == "right" ? track::AuxSide::kRight
-                             : track::AuxSide::kEither;
-  return l;
-}
-
-track::TrainDynamics dynamics(const scenario::Scenario& sc) {
-  track::TrainDynamics d;
-  d.enabled = sc.get<bool>("train.dynamics.enabled");
-  d.mass_kg = sc.get<double>("train.dynamics.mass_kg");
-  d.rotating_mass_factor = sc.get<double>("train.dynamics.rotating_mass_factor");
-  d.davis_a_n = sc.get<double>("train.dynamics.davis_a_n");
-  d.davis_b_n_s_m = sc.get<double>("train.dynamics.davis_b_n_s_m");
-  d.davis_c_n_s2_m2 = sc.get<double>("train.dynamics.davis_c_n_s2_m2");
-  d.max_traction_n = sc.get<double>("train.dynamics.max_traction_n");
-  d.max_power_w = sc.get<double>("train.dynamics.max_power_w");
-  return d;
-}
-
-}  // namespace
 
 TrainTrajectory::TrainTrajectory(std::shared_ptr<const RouteStage> route,
                                  track::MotionProfile motion, track::VehicleGeometry vehicle,
@@ -177,35 +71,45 @@ Plan::Plan(std::shared_ptr<const RouteStage> route, std::shared_ptr<const Layout
 
 namespace {
 
-// The pipeline's stage table (docs/REFERENCES.md P1). The first three are the plan's stages;
-// each key hashes exactly these sections.
-constexpr const char* kRouteSections[] = {"seed", "geodetic_origin", "route", "design"};
-constexpr const char* kLayoutSections[] = {"seed", "layout"};
-constexpr const char* kMotionSections[] = {"train", "trajectory"};
-constexpr const char* kTerrainSections[] = {"seed"};
-constexpr const char* kSensorSections[] = {"sensors"};
-constexpr PipelineStage kStages[] = {
-    {"route", "route, vertical profile, cant and design rules", kRouteSections, true},
-    {"layout", "double and auxiliary tracks", kLayoutSections, true},
-    {"motion", "speed profile and trajectory", kMotionSections, true},
-    {"terrain", "terrain, objects and track assets", kTerrainSections, false},
-    {"lidar", "LiDAR", kSensorSections, false},
-    {"cameras", "cameras", kSensorSections, false},
-};
+// The pipeline's stage table (docs/REFERENCES.md P1) and the scenario sections each stage
+// reads; a stage's key hashes exactly these sections (and its upstream stages' keys).
+const std::vector<PipelineStage>& stageTable() {
+  static const std::vector<PipelineStage> stages = [] {
+    const std::string seed = scenario::seedParam().key;
+    return std::vector<PipelineStage>{
+        {"route",
+         "route, vertical profile, cant and design rules",
+         {seed, geodeticOriginSection().key, routeSection().key, designSection().key},
+         true},
+        {"layout", "double and auxiliary tracks", {seed, layoutSection().key}, true},
+        {"motion",
+         "speed profile and trajectory",
+         {trainSection().key, trajectorySection().key},
+         true},
+        {"terrain", "terrain, objects and track assets", {seed}, false},
+        {"lidar", "LiDAR", {}, false},
+        {"cameras", "cameras", {}, false},
+    };
+  }();
+  return stages;
+}
 
 std::uint64_t stageKey(const scenario::Scenario& sc, std::string_view stage,
                        std::initializer_list<std::uint64_t> upstream) {
   std::string bytes(stage);
-  for (const PipelineStage& s : kStages)
+  for (const PipelineStage& s : stageTable())
     if (stage == s.name)
-      for (const char* section : s.sections)
-        bytes += sc.at(section).dump();
+      for (const std::string& section : s.sections)
+        bytes += sc.json().at(section).dump();
   for (std::uint64_t k : upstream)
     bytes += fmt::format("|{:016x}", k);
   // A waypoint route is also a function of its file: its size and modification time.
-  if (stage == "route" && sc.get<std::string>("route.source") == "waypoints") {
+  if (stage != "route")
+    return fnv1a64(bytes);
+  if (const RouteConfig route = routeSection().read(sc.json());
+      route.source == RouteSource::kWaypoints) {
     std::error_code ec;
-    const std::filesystem::path file = sc.get<std::string>("route.waypoints_file");
+    const std::filesystem::path file = route.waypoints_file;
     const auto size = std::filesystem::file_size(file, ec);
     const auto time = std::filesystem::last_write_time(file, ec);
     bytes += fmt::format("|{}|{}", ec ? 0 : size, time.time_since_epoch().count());
@@ -214,26 +118,20 @@ std::uint64_t stageKey(const scenario::Scenario& sc, std::string_view stage,
 }
 
 std::shared_ptr<const RouteStage> buildRoute(const scenario::Scenario& sc, std::uint64_t key) {
-  track::RouteOptions opt;
-  opt.rules = designRules(sc);
-  opt.transition_shape = sc.get<std::string>("route.transition_shape") == "bloss"
-                             ? track::TransitionShape::kBloss
-                             : track::TransitionShape::kClothoid;
-  opt.cant_rotation = sc.get<std::string>("route.cant_rotation") == "centre"
-                          ? track::CantRotation::kCentre
-                          : track::CantRotation::kInnerRail;
-  opt.station_stops = sc.get<bool>("route.station_stops");
-  opt.station_dwell_s = sc.get<double>("route.station_dwell_s");
+  const RouteConfig config = routeSection().read(sc.json());
+  track::RouteOptions opt = config.options;
+  opt.rules = designSection().read(sc.json());
   auto route_of = [&]() {
-    const std::string source = sc.get<std::string>("route.source");
-    if (source == "blocks")
-      return track::buildBlockRoute(blockSpecs(sc), opt);
-    if (source != "waypoints")
-      return track::generateRoute(generatorParams(sc), opt, sc.seed());
-    track::WaypointParams wp;
-    wp.radius_max_m = sc.get<double>("route.waypoint_radius_max_m");
-    return track::importWaypoints(sc.get<std::string>("route.waypoints_file"),
-                                  geodeticAnchor(sc.json()), wp, opt);
+    switch (config.source) {
+      case RouteSource::kBlocks:
+        return track::buildBlockRoute(config.blocks, opt);
+      case RouteSource::kWaypoints:
+        return track::importWaypoints(config.waypoints_file, geodeticAnchor(sc.json()),
+                                      config.waypoints, opt);
+      case RouteSource::kGenerated:
+        break;
+    }
+    return track::generateRoute(config.generator, opt, sc.seed());
   };
   track::DesignedRoute route = route_of();
   std::vector<track::Violation> violations = route.fitting;
@@ -247,7 +145,7 @@ std::shared_ptr<const LayoutStage> buildLayoutStage(const scenario::Scenario& sc
                                                     const RouteStage& route, std::uint64_t key) {
   auto stage = std::make_shared<LayoutStage>();
   stage->key = key;
-  const track::LayoutParams lp = layoutParams(sc);
+  const track::LayoutParams lp = layoutSection().read(sc.json());
   stage->layout = track::buildLayout(route.route.route, lp, sc.seed());
   for (const track::ClearanceIssue& c :
        track::checkClearance(stage->layout, lp.track_centre_distance_m)) {
@@ -262,39 +160,34 @@ std::shared_ptr<const LayoutStage> buildLayoutStage(const scenario::Scenario& sc
 std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
                                                std::shared_ptr<const RouteStage> route,
                                                std::uint64_t key) {
-  track::MotionLimits limits;
-  limits.accel_m_s2 = sc.get<double>("train.max_accel_m_s2");
-  limits.brake_m_s2 = sc.get<double>("train.max_brake_m_s2");
-  limits.jerk_m_s3 = sc.get<double>("train.max_jerk_m_s3");
-  limits.train_length_m = sc.get<double>("train.length_m");
-  track::VehicleGeometry vehicle;
-  vehicle.bogie_spacing_m = sc.get<double>("train.bogie_spacing_m");
+  const TrainConfig train = trainSection().read(sc.json());
+  const track::MotionLimits& limits = train.limits;
+  const track::VehicleGeometry& vehicle = train.vehicle;
   const track::Route& r = route->route.route;
   const double u_length = r.track.distanceLength();
   const double u_start = vehicle.bogie_spacing_m;
   const double u_end = u_length - 1.0;
   if (u_end <= u_start + 1.0)
-    throw ConfigError("train.bogie_spacing_m: the route is too short for the train");
+    throw ConfigError(trainSection().path([](const TrainConfig& c) -> const double& {
+      return c.vehicle.bogie_spacing_m;
+    }) + ": the route is too short for the train");
   track::MotionProfile motion =
-      track::planMotion(r, route->route.stops, limits, dynamics(sc), u_start, u_end);
-  const Eigen::Vector3d reference(sc.get<double>("train.reference_point.x_m"),
-                                  sc.get<double>("train.reference_point.y_m"),
-                                  sc.get<double>("train.reference_point.z_m"));
-  return std::make_shared<MotionStage>(
-      MotionStage{key, limits,
-                  TrainTrajectory(std::move(route), std::move(motion), vehicle, reference,
-                                  sc.get<TimeNs>("trajectory.sample_period_ns"))});
+      track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_end);
+  return std::make_shared<MotionStage>(MotionStage{
+      key, limits,
+      TrainTrajectory(std::move(route), std::move(motion), vehicle, train.reference_point,
+                      trajectorySection().read(sc.json()).sample_period_ns)});
 }
 
 }  // namespace
 
 std::span<const PipelineStage> pipelineStages() {
-  return kStages;
+  return stageTable();
 }
 
 std::vector<std::string> stagesNotRun() {
   std::vector<std::string> out;
-  for (const PipelineStage& s : kStages)
+  for (const PipelineStage& s : stageTable())
     if (!s.implemented)
       out.emplace_back(s.description);
   return out;
@@ -348,9 +241,9 @@ std::string railroadJson(const Plan& plan) {
   for (const track::LayoutTrack& t : plan.layout().tracks) {
     nlohmann::json blocks = nlohmann::json::array();
     for (const track::LayoutBlock& b : t.blocks) {
-      nlohmann::json jb = {{"type", b.type}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
-      if (!b.part.empty())
-        jb["part"] = b.part;
+      nlohmann::json jb = {{"type", nameOf(b.type)}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
+      if (b.part != track::TrackPart::kWhole)
+        jb["part"] = nameOf(b.part);
       if (b.main_block_id >= 0)
         jb["main_block_id"] = b.main_block_id;
       blocks.push_back(std::move(jb));
@@ -360,7 +253,7 @@ std::string railroadJson(const Plan& plan) {
       polyline.push_back({std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6,
                           std::round(p.z() * 1e6) / 1e6});
     nlohmann::json jt = {{"id", t.id},
-                         {"kind", t.kind},
+                         {"kind", nameOf(t.kind)},
                          {"offset_m", t.offset_m},
                          {"main_chainage_begin_m", t.main_chainage_begin_m},
                          {"main_chainage_end_m", t.main_chainage_end_m},
@@ -373,7 +266,7 @@ std::string railroadJson(const Plan& plan) {
   nlohmann::json main_blocks = nlohmann::json::array();
   for (const track::Block& b : plan.route().route.blocks) {
     main_blocks.push_back({{"id", b.id},
-                           {"type", std::string(track::blockTypeName(b.type))},
+                           {"type", nameOf(b.type)},
                            {"chainage_begin_m", b.chainage_begin_m},
                            {"chainage_end_m", b.chainage_end_m},
                            {"speed_limit_m_s", b.speed_limit_m_s},
@@ -463,19 +356,18 @@ void writePlan(const Plan& plan,
 }
 
 scenario::Json blockListJson(const track::Route& route) {
+  // What a designer would type: each number to 12 significant digits, so that a cant of
+  // 0.085 m reads 85 mm while lengths keep the micrometres that rebuild the same chainages.
+  const auto round = [](scenario::Json& j) {
+    for (auto& [key, value] : j.items())
+      if (value.is_number_float())
+        value = scenario::jsonDefault(value.get<double>(), scenario::units::kNone);
+  };
   scenario::Json list = scenario::Json::array();
-  // Rounded to what a designer would type (0.1 mm, 0.001 permille); lengths to 1 µm so the
-  // rebuilt alignment lands on the same chainages.
-  auto round_to = [](double x, double step) { return std::round(x / step) * step; };
   for (const track::BlockSpec& b : track::blockSpecs(route)) {
-    const bool curve = b.type == track::BlockType::kCurve;
-    list.push_back({{"type", std::string(track::blockTypeName(b.type))},
-                    {"length_m", round_to(b.length_m, 1e-6)},
-                    {"radius_m", curve ? round_to(b.radius_m, 1e-6) : 1500.0},
-                    {"direction", b.left ? "left" : "right"},
-                    {"transition_m", curve ? round_to(b.transition_m, 1e-6) : -1.0},
-                    {"cant_mm", curve ? round_to(b.cant_m * 1e3, 1e-4) : -1.0},
-                    {"grade_permille", round_to(b.grade * 1e3, 1e-3)}});
+    scenario::Json item = routeBlockJson(b);
+    round(item);
+    list.push_back(std::move(item));
   }
   return list;
 }

@@ -12,8 +12,6 @@ namespace trainsim::sim {
 namespace {
 
 using scenario::Json;
-using scenario::number;
-using scenario::object;
 
 // Thin adapters: the physics is in modules/positioning; these read the scenario, take the
 // truth from the trajectory in render() and run the models and write CSV rows in commit().
@@ -30,6 +28,162 @@ const track::Route& requireRoute(const SensorSetup& setup) {
   return *setup.context.route;
 }
 
+constexpr TimeNs kMinPeriod = 100'000, kMaxPeriod = 60'000'000'000;
+constexpr scenario::Unit kM = scenario::units::si("m");
+constexpr scenario::Unit kS = scenario::units::si("s");
+constexpr scenario::Unit kMPerS = scenario::units::si("m/s");
+constexpr scenario::Unit kNone = scenario::units::kNone;
+
+// sensors.gnss_receivers[]
+struct GnssConfig {
+  SensorBasics basics{"gnss", 1'000'000'000, {Eigen::Vector3d(0.0, 0.0, 4.0)}};
+  positioning::GnssErrorSpec errors;
+  double reacquisition_s = 5.0;
+};
+
+const scenario::Binding<GnssConfig>& gnssBinding() {
+  static const scenario::Binding<GnssConfig> binding = [] {
+    using E = positioning::GnssErrorSpec;
+    scenario::Binding<GnssConfig> b;
+    b.embed(&GnssConfig::basics,
+            sensorBasics({"<name>.csv", kMinPeriod, kMaxPeriod, "Fix period (1 Hz by default)",
+                          "Antenna phase centre (its attitude does not matter)"}));
+    const auto error = [](double E::*m) {
+      return [m](GnssConfig& c) -> double& { return c.errors.*m; };
+    };
+    b.number("horizontal_sigma_m", error(&E::horizontal_sigma_m), kM,
+             "Gauss-Markov horizontal error, 1 sigma per axis")
+        .range(0, 1000);
+    b.number("vertical_sigma_m", error(&E::vertical_sigma_m), kM,
+             "Gauss-Markov vertical error, 1 sigma")
+        .range(0, 1000);
+    b.number("correlation_time_s", error(&E::correlation_time_s), kS,
+             "Correlation time of the Gauss-Markov error")
+        .range(0.1, 1e5);
+    b.number("white_sigma_m", error(&E::white_sigma_m), kM,
+             "White position noise, 1 sigma per axis")
+        .range(0, 100);
+    b.number("velocity_sigma_m_s", error(&E::velocity_sigma_m_s), kMPerS,
+             "White velocity noise, 1 sigma per axis")
+        .range(0, 10);
+    b.number("velocity_gm_sigma_m_s", error(&E::velocity_gm_sigma_m_s), kMPerS,
+             "Gauss-Markov velocity error (same correlation time), 1 sigma per axis")
+        .range(0, 10);
+    b.number("reacquisition_s", &GnssConfig::reacquisition_s, kS,
+             "No fix for this long after leaving a tunnel")
+        .range(0, 600);
+    return b;
+  }();
+  return binding;
+}
+
+// sensors.odometers[]: every axle of the rigid train runs the same distance, so the odometer
+// has no mount.
+struct OdometerConfig {
+  SensorBasics basics{"odometer", 10'000'000, {}};
+  positioning::OdometerSpec spec;
+};
+
+const scenario::Binding<positioning::OdometerSpec::Slip>& slipBinding() {
+  static const scenario::Binding<positioning::OdometerSpec::Slip> binding = [] {
+    using S = positioning::OdometerSpec::Slip;
+    scenario::Binding<S> b;
+    b.boolean("enabled", &S::enabled, "Simulate slip and slide");
+    b.number("accel_threshold_m_s2", &S::accel_threshold_m_s2, scenario::units::si("m/s^2"),
+             "Slip only above this acceleration")
+        .range(0, 10);
+    b.number("brake_threshold_m_s2", &S::brake_threshold_m_s2, scenario::units::si("m/s^2"),
+             "Slide only above this braking")
+        .range(0, 10);
+    b.number("rate_per_s", &S::rate_per_s, scenario::units::si("1/s"),
+             "Episode start rate while above threshold")
+        .range(0, 100);
+    b.number("duration_min_s", &S::duration_min_s, kS, "Shortest episode").range(0.01, 600);
+    b.number("duration_max_s", &S::duration_max_s, kS, "Longest episode").range(0.01, 600);
+    b.number("magnitude_max", &S::magnitude_max, kNone,
+             "Largest relative speed error of an episode")
+        .range(0.02, 0.9);
+    b.notAbove(&S::duration_min_s, &S::duration_max_s);
+    return b;
+  }();
+  return binding;
+}
+
+const scenario::Binding<OdometerConfig>& odometerBinding() {
+  static const scenario::Binding<OdometerConfig> binding = [] {
+    using O = positioning::OdometerSpec;
+    scenario::Binding<OdometerConfig> b;
+    b.embed(&OdometerConfig::basics, sensorBasics({"<name>.csv", kMinPeriod, kMaxPeriod,
+                                                   "Output period (100 Hz by default)", nullptr}));
+    b.number(
+         "wheel_diameter_m", [](OdometerConfig& c) -> double& { return c.spec.wheel_diameter_m; },
+         kM, "Nominal wheel diameter")
+        .range(0.3, 2.0);
+    b.integer(
+         "pulses_per_revolution",
+         [](OdometerConfig& c) -> int& { return c.spec.pulses_per_revolution; }, "",
+         "Encoder pulses per wheel turn")
+        .range(1, 100000);
+    b.number(
+         "scale_error", [](OdometerConfig& c) -> double& { return c.spec.scale_error; }, kNone,
+         "Distance scale error: the encoder reads (1 + e) times the distance travelled (worn or "
+         "mis-calibrated wheel)")
+        .range(-0.2, 0.2);
+    b.object(
+        "slip", [](OdometerConfig& c) -> O::Slip& { return c.spec.slip; }, slipBinding(),
+        "Wheel slip (traction) and slide (braking) episodes");
+    return b;
+  }();
+  return binding;
+}
+
+// sensors.balise_readers[]
+struct BaliseReaderConfig {
+  SensorBasics basics{"balises", 10'000'000, {Eigen::Vector3d(10.75, 0.0, -0.5)}};
+  positioning::BalisePlacement placement;
+  double location_accuracy_m = 1.0;
+  double detection_sigma_m = 0.3;
+};
+
+const scenario::Binding<BaliseReaderConfig>& baliseReaderBinding() {
+  static const scenario::Binding<BaliseReaderConfig> binding = [] {
+    using P = positioning::BalisePlacement;
+    using C = BaliseReaderConfig;
+    scenario::Binding<C> b;
+    b.embed(&C::basics,
+            sensorBasics({"<name>.csv", kMinPeriod, kMaxPeriod,
+                          "Reader polling period (events carry their own time)",
+                          "Reader antenna under the carbody; a balise is read when the antenna's "
+                          "x passes it (2 m ahead of the front bogie pivot by default)"}));
+    const auto place = [](auto P::*m) {
+      return [m](C & c) -> auto& {
+        return c.placement.*m;
+      };
+    };
+    b.number("first_group_m", place(&P::first_group_m), kM,
+             "Distance of the first group from the route start")
+        .range(0, 1e7);
+    b.number("group_spacing_m", place(&P::group_spacing_m), kM, "Distance between balise groups")
+        .range(10, 1e6);
+    b.integer("balises_per_group", place(&P::balises_per_group), "", "Balises in a group")
+        .range(1, 8);
+    b.number("balise_spacing_m", place(&P::balise_spacing_m), kM,
+             "Distance between balises of a group")
+        .range(0.5, 20);
+    b.number("station_approach_m", place(&P::station_approach_m), kM,
+             "Extra group this far before each station; 0: none")
+        .range(0, 5000);
+    b.number("location_accuracy_m", &C::location_accuracy_m, kM,
+             "Group location accuracy (ETCS Q_LOCACC)")
+        .range(0, 63);
+    b.number("detection_sigma_m", &C::detection_sigma_m, kM,
+             "Where the reader detects the balise, 1 sigma")
+        .range(0, 5);
+    return b;
+  }();
+  return binding;
+}
+
 // ---------------------------------------------------------------------------------------
 // GNSS receiver: the antenna's true position and velocity (render), the error model and the
 // tunnel outage (commit).
@@ -43,27 +197,17 @@ struct AntennaTruth {
 class GnssSensor final : public SensorOf<AntennaTruth> {
  public:
   explicit GnssSensor(const SensorSetup& setup)
+      : GnssSensor(setup, gnssBinding().read(setup.config)) {}
+  GnssSensor(const SensorSetup& setup, const GnssConfig& c)
       : trajectory_(setup.context.trajectory),
         anchor_(setup.context.anchor),
         route_(requireRoute(setup)),
-        name_(readSensorName(setup.config)),
-        period_(readPeriod(setup.config)),
-        mount_(readMount(setup.config)),
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        mount_(c.basics.mount.mount()),
         ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), mount_)),
-        errors_(spec(setup.config), period_,
-                RandomStream(setup.context.scenario.seed(), name_ + ".gnss")),
-        outage_(fromSeconds(setup.config.at("reacquisition_s").get<double>())) {}
-
-  static positioning::GnssErrorSpec spec(const Json& c) {
-    positioning::GnssErrorSpec e;
-    e.horizontal_sigma_m = c.at("horizontal_sigma_m").get<double>();
-    e.vertical_sigma_m = c.at("vertical_sigma_m").get<double>();
-    e.correlation_time_s = c.at("correlation_time_s").get<double>();
-    e.white_sigma_m = c.at("white_sigma_m").get<double>();
-    e.velocity_sigma_m_s = c.at("velocity_sigma_m_s").get<double>();
-    e.velocity_gm_sigma_m_s = c.at("velocity_gm_sigma_m_s").get<double>();
-    return e;
-  }
+        errors_(c.errors, period_, RandomStream(setup.context.scenario.seed(), name_ + ".gnss")),
+        outage_(fromSeconds(c.reacquisition_s)) {}
 
   std::string name() const override { return name_; }
   std::string kind() const override { return "gnss"; }
@@ -137,27 +281,12 @@ struct WheelTruth {
 class OdometerSensor final : public SensorOf<WheelTruth> {
  public:
   explicit OdometerSensor(const SensorSetup& setup)
+      : OdometerSensor(setup, odometerBinding().read(setup.config)) {}
+  OdometerSensor(const SensorSetup& setup, const OdometerConfig& c)
       : trajectory_(setup.context.trajectory),
-        name_(readSensorName(setup.config)),
-        period_(readPeriod(setup.config)),
-        model_(spec(setup.config), period_,
-               RandomStream(setup.context.scenario.seed(), name_ + ".odometer")) {}
-
-  static positioning::OdometerSpec spec(const Json& c) {
-    positioning::OdometerSpec o;
-    o.wheel_diameter_m = c.at("wheel_diameter_m").get<double>();
-    o.pulses_per_revolution = c.at("pulses_per_revolution").get<int>();
-    o.scale_error = c.at("scale_error").get<double>();
-    const Json& slip = c.at("slip");
-    o.slip.enabled = slip.at("enabled").get<bool>();
-    o.slip.accel_threshold_m_s2 = slip.at("accel_threshold_m_s2").get<double>();
-    o.slip.brake_threshold_m_s2 = slip.at("brake_threshold_m_s2").get<double>();
-    o.slip.rate_per_s = slip.at("rate_per_s").get<double>();
-    o.slip.duration_min_s = slip.at("duration_min_s").get<double>();
-    o.slip.duration_max_s = slip.at("duration_max_s").get<double>();
-    o.slip.magnitude_max = slip.at("magnitude_max").get<double>();
-    return o;
-  }
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        model_(c.spec, period_, RandomStream(setup.context.scenario.seed(), name_ + ".odometer")) {}
 
   std::string name() const override { return name_; }
   std::string kind() const override { return "odometer"; }
@@ -197,35 +326,28 @@ class OdometerSensor final : public SensorOf<WheelTruth> {
 // Balise reader: the antenna's distance along the track and speed (render); the detector
 // with its passage-time roots (commit). Balises lie along the main track.
 
-positioning::BaliseDetector makeDetector(const SensorSetup& setup, const std::string& name) {
-  const Json& c = setup.config;
+positioning::BaliseDetector makeDetector(const SensorSetup& setup, const BaliseReaderConfig& c) {
   const track::Route& route = requireRoute(setup);
-  positioning::BalisePlacement p;
-  p.first_group_m = c.at("first_group_m").get<double>();
-  p.group_spacing_m = c.at("group_spacing_m").get<double>();
-  p.balises_per_group = c.at("balises_per_group").get<int>();
-  p.balise_spacing_m = c.at("balise_spacing_m").get<double>();
-  p.station_approach_m = c.at("station_approach_m").get<double>();
   std::vector<double> stations;
   for (const track::Block& b : route.blocks)
     if (b.type == track::BlockType::kStation)
       stations.push_back(route.track.vertical().at(b.chainage_begin_m).distance_m);
   return positioning::BaliseDetector(
-      positioning::placeBalises(p, route.track.distanceLength(), stations),
-      c.at("detection_sigma_m").get<double>(),
-      RandomStream(setup.context.scenario.seed(), name + ".balises"));
+      positioning::placeBalises(c.placement, route.track.distanceLength(), stations),
+      c.detection_sigma_m, RandomStream(setup.context.scenario.seed(), c.basics.name + ".balises"));
 }
 
 class BaliseReader final : public SensorOf<positioning::AntennaState> {
  public:
   explicit BaliseReader(const SensorSetup& setup)
+      : BaliseReader(setup, baliseReaderBinding().read(setup.config)) {}
+  BaliseReader(const SensorSetup& setup, const BaliseReaderConfig& c)
       : trajectory_(setup.context.trajectory),
-        name_(readSensorName(setup.config)),
-        period_(readPeriod(setup.config)),
-        ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), readMount(setup.config))),
-        confidence_m_(setup.config.at("location_accuracy_m").get<double>() +
-                      3.0 * setup.config.at("detection_sigma_m").get<double>()),
-        detector_(makeDetector(setup, name_)) {}
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), c.basics.mount.mount())),
+        confidence_m_(c.location_accuracy_m + 3.0 * c.detection_sigma_m),
+        detector_(makeDetector(setup, c)) {}
 
   std::string name() const override { return name_; }
   std::string kind() const override { return "balise_reader"; }
@@ -262,78 +384,20 @@ class BaliseReader final : public SensorOf<positioning::AntennaState> {
   io::AppendFile* csv_ = nullptr;
 };
 
-scenario::Param period(TimeNs default_ns, const std::string& what) {
-  return declarePeriod(default_ns, 100'000, 60'000'000'000, what);
-}
-
 }  // namespace
 
 scenario::Param declareGnss() {
-  return object(
-      "gnss", "A GNSS receiver: latitude/longitude/height and velocity with correlated errors.",
-      {declareSensorName("gnss", "<name>.csv"),
-       period(1'000'000'000, "Fix period (1 Hz by default)"),
-       declareMount("Antenna phase centre (its attitude does not matter)", {0.0, 0.0, 4.0}),
-       number("horizontal_sigma_m", 1.5, "m", "Gauss-Markov horizontal error, 1 sigma per axis")
-           .range(0, 1000),
-       number("vertical_sigma_m", 3.0, "m", "Gauss-Markov vertical error, 1 sigma").range(0, 1000),
-       number("correlation_time_s", 120, "s", "Correlation time of the Gauss-Markov error")
-           .range(0.1, 1e5),
-       number("white_sigma_m", 0.3, "m", "White position noise, 1 sigma per axis").range(0, 100),
-       number("velocity_sigma_m_s", 0.05, "m/s", "White velocity noise, 1 sigma per axis")
-           .range(0, 10),
-       number("velocity_gm_sigma_m_s", 0.02, "m/s",
-              "Gauss-Markov velocity error (same correlation time), 1 sigma per axis")
-           .range(0, 10),
-       number("reacquisition_s", 5.0, "s", "No fix for this long after leaving a tunnel")
-           .range(0, 600)});
+  return gnssBinding().declare(
+      "gnss", "A GNSS receiver: latitude/longitude/height and velocity with correlated errors.");
 }
 
 scenario::Param declareOdometer() {
-  return object(
-      "odometer", "A wheel encoder: pulses, distance and speed.",
-      {declareSensorName("odometer", "<name>.csv"),
-       period(10'000'000, "Output period (100 Hz by default)"),
-       number("wheel_diameter_m", 0.92, "m", "Nominal wheel diameter").range(0.3, 2.0),
-       scenario::integer("pulses_per_revolution", 200, "", "Encoder pulses per wheel turn")
-           .range(1, 100000),
-       number("scale_error", 0.005, "",
-              "Distance scale error: the encoder reads (1 + e) times the distance travelled "
-              "(worn or mis-calibrated wheel)")
-           .range(-0.2, 0.2),
-       object("slip", "Wheel slip (traction) and slide (braking) episodes",
-              {scenario::boolean("enabled", true, "Simulate slip and slide"),
-               number("accel_threshold_m_s2", 0.5, "m/s^2", "Slip only above this acceleration")
-                   .range(0, 10),
-               number("brake_threshold_m_s2", 0.4, "m/s^2", "Slide only above this braking")
-                   .range(0, 10),
-               number("rate_per_s", 0.02, "1/s", "Episode start rate while above threshold")
-                   .range(0, 100),
-               number("duration_min_s", 1.0, "s", "Shortest episode").range(0.01, 600),
-               number("duration_max_s", 4.0, "s", "Longest episode").range(0.01, 600),
-               number("magnitude_max", 0.15, "", "Largest relative speed error of an episode")
-                   .range(0.02, 0.9)})});
+  return odometerBinding().declare("odometer", "A wheel encoder: pulses, distance and speed.");
 }
 
 scenario::Param declareBaliseReader() {
-  return object(
-      "balise_reader", "Balise groups along the main track and the train's reader.",
-      {declareSensorName("balises", "<name>.csv"),
-       period(10'000'000, "Reader polling period (events carry their own time)"),
-       declareMount("Reader antenna under the carbody; a balise is read when the antenna's "
-                    "x passes it (2 m ahead of the front bogie pivot by default)",
-                    {10.75, 0.0, -0.5}),
-       number("first_group_m", 200, "m", "Distance of the first group from the route start")
-           .range(0, 1e7),
-       number("group_spacing_m", 1000, "m", "Distance between balise groups").range(10, 1e6),
-       scenario::integer("balises_per_group", 2, "", "Balises in a group").range(1, 8),
-       number("balise_spacing_m", 3.0, "m", "Distance between balises of a group").range(0.5, 20),
-       number("station_approach_m", 50, "m", "Extra group this far before each station; 0: none")
-           .range(0, 5000),
-       number("location_accuracy_m", 1.0, "m", "Group location accuracy (ETCS Q_LOCACC)")
-           .range(0, 63),
-       number("detection_sigma_m", 0.3, "m", "Where the reader detects the balise, 1 sigma")
-           .range(0, 5)});
+  return baliseReaderBinding().declare(
+      "balise_reader", "Balise groups along the main track and the train's reader.");
 }
 
 std::unique_ptr<Sensor> createGnss(const SensorSetup& setup) {

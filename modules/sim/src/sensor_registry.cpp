@@ -19,9 +19,10 @@ namespace trainsim::sim {
 //   1. Put the physics in a module below sim (e.g. modules/inertial) and implement
 //      trainsim::sim::Sensor (sensor.hpp) as a thin adapter in modules/sim/src (e.g.
 //      imu_sensor.cpp), respecting the resume contract stated there.
-//   2. Give it a `scenario::Param declareX()` (an object(...) with the sensor's parameters,
-//      units in the names, the period declared with .multipleOf("trajectory.sample_period_ns"))
-//      and a `std::unique_ptr<Sensor> createX(const SensorSetup&)`.
+//   2. Give it a config struct with `SensorBasics basics` and its parameters, and a
+//      scenario::Binding of it that embeds sensorBasics(...) (sensor_params.hpp) and binds each
+//      parameter once (units in the keys); `scenario::Param declareX()` returns its
+//      declaration and `std::unique_ptr<Sensor> createX(const SensorSetup&)` reads it.
 //   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX,
 //      kXFiles}, where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv;
 //      sensor_params.hpp) and its outputs() returns (sensorFiles).
@@ -39,6 +40,8 @@ constexpr std::array<SensorKind, 4> kSensorKinds = {
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
                &declareBaliseReader, &createBaliseReader, kReadingsCsv},
 };
+
+constexpr const char* kSensors = "sensors";
 
 // Files the run writes into the sequence folder itself; no sensor file may take their names.
 constexpr const char* kReservedFiles[] = {"times.txt", "poses.txt", "calib.txt"};
@@ -65,7 +68,7 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {
   std::vector<std::unique_ptr<Sensor>> sensors;
   for (const SensorKind& kind : sensorKinds()) {
-    const std::string path = fmt::format("sensors.{}", kind.key);
+    const std::string path = fmt::format("{}.{}", kSensors, kind.key);
     const scenario::Json& list = context.scenario.at(path);
     for (std::size_t i = 0; i < list.size(); ++i)
       sensors.push_back(kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i)}));
@@ -73,14 +76,22 @@ std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context)
   return sensors;
 }
 
+void addSensorsSection(scenario::Schema& schema) {
+  std::vector<scenario::Param> kinds;
+  for (const SensorKind& kind : sensorKinds())
+    kinds.push_back(scenario::array(kind.key, kind.description, kind.declare()));
+  schema.add(scenario::object(kSensors, "Simulated sensors, a list per kind.", std::move(kinds)));
+  schema.addCheck(checkSensorNames);
+}
+
 void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
   std::map<std::string, std::string> names, files;  // name or file -> JSON path of its sensor
   for (const char* reserved : kReservedFiles)
     files[reserved] = "the dataset";
   for (const SensorKind& kind : sensorKinds()) {
-    const scenario::Json& list = resolved.at("sensors").at(kind.key);
+    const scenario::Json& list = resolved.at(kSensors).at(kind.key);
     for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string path = fmt::format("sensors.{}[{}]", kind.key, i);
+      const std::string path = fmt::format("{}.{}[{}]", kSensors, kind.key, i);
       const std::string name = readSensorName(list[i]);
       if (!safeFileName(name)) {
         problems.push_back(

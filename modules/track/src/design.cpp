@@ -17,24 +17,6 @@ double kmh(double v) {
 
 }  // namespace
 
-std::string_view blockTypeName(BlockType type) {
-  switch (type) {
-    case BlockType::kStraight:
-      return "straight";
-    case BlockType::kCurve:
-      return "curve";
-    case BlockType::kStation:
-      return "station";
-    case BlockType::kTunnel:
-      return "tunnel";
-    case BlockType::kBridge:
-      return "bridge";
-    case BlockType::kSwitch:
-      return "switch";
-  }
-  return "?";
-}
-
 double DesignRules::equilibriumCant(double v, double radius_m) const {
   return kCantBase_m * v * v / (kStandardGravity_m_s2 * std::abs(radius_m));
 }

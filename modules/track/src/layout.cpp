@@ -14,13 +14,32 @@
 
 namespace trainsim::track {
 
-Turnout turnoutByName(const std::string& name) {
-  static const Turnout kKnown[] = {{"190-1:9", 190.0, 9.0}, {"500-1:12", 500.0, 12.0}};
-  for (const Turnout& t : kKnown)
-    if (t.name == name)
-      return t;
-  throw ConfigError(fmt::format(
-      "layout.auxiliary.turnout: unknown turnout \"{}\" (known: \"190-1:9\", \"500-1:12\")", name));
+Turnout turnoutGeometry(TurnoutType type) {
+  switch (type) {
+    case TurnoutType::k190_1_9:
+      return {190.0, 9.0};
+    case TurnoutType::k500_1_12:
+      return {500.0, 12.0};
+  }
+  return {190.0, 9.0};
+}
+
+LayoutBlockType layoutBlockType(BlockType type) {
+  switch (type) {
+    case BlockType::kStraight:
+      return LayoutBlockType::kStraight;
+    case BlockType::kCurve:
+      return LayoutBlockType::kCurve;
+    case BlockType::kStation:
+      return LayoutBlockType::kStation;
+    case BlockType::kTunnel:
+      return LayoutBlockType::kTunnel;
+    case BlockType::kBridge:
+      return LayoutBlockType::kBridge;
+    case BlockType::kSwitch:
+      return LayoutBlockType::kSwitch;
+  }
+  return LayoutBlockType::kStraight;
 }
 
 namespace {
@@ -128,7 +147,8 @@ double gridCell(double min_distance_m) {
 // A stretch of one layout track between two main chainages, with the block it belongs to.
 struct Interval {
   double x0 = 0.0, x1 = 0.0;  // main chainage
-  std::string type, part;
+  LayoutBlockType type = LayoutBlockType::kStraight;
+  TrackPart part = TrackPart::kWhole;
   int main_block_id = -1;
   bool in_turnout = false;
   int piece = -1;  // auxiliary tracks: the geometric piece that gives the offset
@@ -211,10 +231,11 @@ std::vector<Interval> mainIntervals(const Route& route) {
   std::vector<Interval> out;
   for (const Block& b : route.blocks)
     if (b.chainage_end_m > b.chainage_begin_m)
-      out.push_back({b.chainage_begin_m, b.chainage_end_m, std::string(blockTypeName(b.type)), "",
-                     b.id, false, -1});
+      out.push_back({b.chainage_begin_m, b.chainage_end_m, layoutBlockType(b.type),
+                     TrackPart::kWhole, b.id, false, -1});
   if (out.empty())
-    out.push_back({0.0, route.track.length(), "straight", "", -1, false, -1});
+    out.push_back(
+        {0.0, route.track.length(), LayoutBlockType::kStraight, TrackPart::kWhole, -1, false, -1});
   return out;
 }
 
@@ -231,7 +252,8 @@ struct Piece {
   // Arc of radius r tangent at chainage xt to the parallel at offset yt, bending towards
   // `bend` (±1): y = yt + bend·(r − sqrt(r² − (x − xt)²)).
   double xt = 0.0, yt = 0.0, bend = 0.0, r = 0.0;
-  std::string type, part;
+  LayoutBlockType type = LayoutBlockType::kStraight;
+  TrackPart part = TrackPart::kWhole;
   bool in_turnout = false;
 
   double offset(double x) const {
@@ -243,22 +265,22 @@ struct Piece {
   }
 };
 
-Piece line(double x0, double x1, double y0, double y1, std::string type, std::string part,
+Piece line(double x0, double x1, double y0, double y1, LayoutBlockType type, TrackPart part,
            bool in_turnout) {
   Piece p;
   p.x0 = x0;
   p.x1 = x1;
   p.y0 = y0;
   p.y1 = y1;
-  p.type = std::move(type);
-  p.part = std::move(part);
+  p.type = type;
+  p.part = part;
   p.in_turnout = in_turnout;
   return p;
 }
 
-Piece arc(double x0, double x1, double xt, double yt, double bend, double r, std::string type,
-          std::string part, bool in_turnout) {
-  Piece p = line(x0, x1, 0.0, 0.0, std::move(type), std::move(part), in_turnout);
+Piece arc(double x0, double x1, double xt, double yt, double bend, double r, LayoutBlockType type,
+          TrackPart part, bool in_turnout) {
+  Piece p = line(x0, x1, 0.0, 0.0, type, part, in_turnout);
   p.shape = Piece::Shape::kArc;
   p.xt = xt;
   p.yt = yt;
@@ -290,38 +312,47 @@ std::vector<Piece> auxPieces(const TurnoutGeometry& g, double x0, double yn, dou
   if (turnout_begin) {
     // Diverging arc from the neighbour, the diagonal, the reverse arc into the parallel.
     const double xa = x + rs, xb = xa + g.diagonal_m * g.cos_a, xc = xb + rs;
-    const Piece a1 = arc(x, xa, x, yn, side, g.r, "turnout", "entering", true);
-    const Piece a2 = arc(xb, xc, xc, yp, -side, g.r, "curve", "entering", true);
+    const Piece a1 =
+        arc(x, xa, x, yn, side, g.r, LayoutBlockType::kTurnout, TrackPart::kEntering, true);
+    const Piece a2 =
+        arc(xb, xc, xc, yp, -side, g.r, LayoutBlockType::kCurve, TrackPart::kEntering, true);
     out.push_back(a1);
-    out.push_back(line(xa, xb, a1.offset(xa), a2.offset(xb), "turnout", "entering", true));
+    out.push_back(line(xa, xb, a1.offset(xa), a2.offset(xb), LayoutBlockType::kTurnout,
+                       TrackPart::kEntering, true));
     out.push_back(a2);
     x = xc;
   } else {
     // Dead end outside the parallel, pointing in towards it, then the arc that turns it parallel.
     const double xa = x + g.dead_end_m * g.cos_a, xc = xa + rs;
-    const Piece a = arc(xa, xc, xc, yp, side, g.r, "curve", "entering", false);
+    const Piece a =
+        arc(xa, xc, xc, yp, side, g.r, LayoutBlockType::kCurve, TrackPart::kEntering, false);
     const double ya = a.offset(xa);
-    out.push_back(
-        line(x, xa, ya + side * g.dead_end_m * g.sin_a, ya, "dead_end", "entering", false));
+    out.push_back(line(x, xa, ya + side * g.dead_end_m * g.sin_a, ya, LayoutBlockType::kDeadEnd,
+                       TrackPart::kEntering, false));
     out.push_back(a);
     x = xc;
   }
-  out.push_back(line(x, x + parallel_m, yp, yp, "parallel", "parallel", false));
+  out.push_back(
+      line(x, x + parallel_m, yp, yp, LayoutBlockType::kParallel, TrackPart::kParallel, false));
   x += parallel_m;
   if (turnout_end) {
     const double xa = x + rs, xb = xa + g.diagonal_m * g.cos_a, xc = xb + rs;
-    const Piece a2 = arc(x, xa, x, yp, -side, g.r, "curve", "outgoing", true);
-    const Piece a1 = arc(xb, xc, xc, yn, side, g.r, "turnout", "outgoing", true);
+    const Piece a2 =
+        arc(x, xa, x, yp, -side, g.r, LayoutBlockType::kCurve, TrackPart::kOutgoing, true);
+    const Piece a1 =
+        arc(xb, xc, xc, yn, side, g.r, LayoutBlockType::kTurnout, TrackPart::kOutgoing, true);
     out.push_back(a2);
-    out.push_back(line(xa, xb, a2.offset(xa), a1.offset(xb), "turnout", "outgoing", true));
+    out.push_back(line(xa, xb, a2.offset(xa), a1.offset(xb), LayoutBlockType::kTurnout,
+                       TrackPart::kOutgoing, true));
     out.push_back(a1);
   } else {
     const double xa = x + rs, xb = xa + g.dead_end_m * g.cos_a;
-    const Piece a = arc(x, xa, x, yp, side, g.r, "curve", "outgoing", false);
+    const Piece a =
+        arc(x, xa, x, yp, side, g.r, LayoutBlockType::kCurve, TrackPart::kOutgoing, false);
     const double ya = a.offset(xa);
     out.push_back(a);
-    out.push_back(
-        line(xa, xb, ya, ya + side * g.dead_end_m * g.sin_a, "dead_end", "outgoing", false));
+    out.push_back(line(xa, xb, ya, ya + side * g.dead_end_m * g.sin_a, LayoutBlockType::kDeadEnd,
+                       TrackPart::kOutgoing, false));
   }
   // Drop zero-length pieces (a zero diagonal or dead end).
   std::erase_if(out, [](const Piece& p) { return !(p.x1 - p.x0 > 1e-12); });
@@ -417,8 +448,8 @@ void validate(const LayoutParams& p) {
           "auxiliary.dead_end_length_m", p.dead_end_length_m, "must not be negative");
 }
 
-TurnoutGeometry turnoutGeometry(const LayoutParams& p, bool turnouts_used) {
-  const Turnout t = turnoutByName(p.turnout);
+TurnoutGeometry geometryOf(const LayoutParams& p, bool turnouts_used) {
+  const Turnout t = turnoutGeometry(p.turnout);
   TurnoutGeometry g;
   g.r = t.radius_m;
   // tan α = 1/n; 1 − cos α = 2 sin²(α/2) avoids cancellation.
@@ -433,7 +464,7 @@ TurnoutGeometry turnoutGeometry(const LayoutParams& p, bool turnouts_used) {
   if (turnouts_used && g.diagonal_m < 0.0)
     throw ConfigError(fmt::format(
         "layout.track_centre_distance_m ({:g} m) is too small for turnout {} (needs {:.3f} m)", d,
-        t.name, std::ceil(needed * 1000.0) / 1000.0));
+        nameOf(p.turnout), std::ceil(needed * 1000.0) / 1000.0));
   g.diagonal_m = std::max(0.0, g.diagonal_m);
   return g;
 }
@@ -443,8 +474,7 @@ TurnoutGeometry turnoutGeometry(const LayoutParams& p, bool turnouts_used) {
 Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t seed) {
   validate(params);
   const bool aux_possible = params.aux_probability > 0.0;
-  const TurnoutGeometry geo =
-      turnoutGeometry(params, aux_possible && params.turnout_probability > 0.0);
+  const TurnoutGeometry geo = geometryOf(params, aux_possible && params.turnout_probability > 0.0);
   const double d = params.track_centre_distance_m;
   const double spacing = params.polyline_spacing_m;
   const Track& track = route.track;
@@ -454,7 +484,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
 
   LayoutTrack main;
   main.id = 0;
-  main.kind = "main";
+  main.kind = TrackKind::kMain;
   main.main_chainage_end_m = track.length();
   sampleTrack(
       blocks, [&](const Interval&, double s) { return mainFrame(track, s).position; }, spacing,
@@ -465,7 +495,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
   if (params.double_track) {
     LayoutTrack dbl;
     dbl.id = double_id = 1;
-    dbl.kind = "double";
+    dbl.kind = TrackKind::kDouble;
     dbl.offset_m = -d;
     dbl.main_chainage_end_m = track.length();
     sampleTrack(
@@ -535,7 +565,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
 
       LayoutTrack aux;
       aux.id = static_cast<int>(layout.tracks.size());
-      aux.kind = "auxiliary";
+      aux.kind = TrackKind::kAuxiliary;
       aux.joins_track = turnout_begin || turnout_end ? (beyond_double ? double_id : 0) : -1;
       aux.offset_m = yp;
       aux.main_chainage_begin_m = pieces.front().x0;
@@ -570,7 +600,7 @@ std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_dist
   for (std::size_t i = 0; i < layout.tracks.size(); ++i)
     grid.add(layout.tracks[i], static_cast<int>(i));
   for (std::size_t i = 0; i < layout.tracks.size(); ++i)
-    if (layout.tracks[i].kind == "auxiliary")
+    if (layout.tracks[i].kind == TrackKind::kAuxiliary)
       collectIssues(layout.tracks[i], static_cast<int>(i), layout.tracks, grid, min_distance_m,
                     out);
   return out;

@@ -49,7 +49,8 @@ DesignedRoute buildBlockRoute(const std::vector<BlockSpec>& blocks, const RouteO
         b.transition_m >= 0.0 ? b.transition_m : detail::transitionFor(rules, v, b.radius_m, cant);
     if (b.length_m <= 0.0 && transition <= 0.0)
       fail("a curve needs an arc or transitions of positive length");
-    builder.curve(b.left ? b.radius_m : -b.radius_m, b.length_m, transition, cant);
+    builder.curve(b.direction == Turn::kLeft ? b.radius_m : -b.radius_m, b.length_m, transition,
+                  cant);
   }
   const double length = builder.chainage();
   pvis.push_back({length, pvis.back().z_m + grade * (length - pvis.back().chainage_m), 0.0});
@@ -84,7 +85,7 @@ std::vector<BlockSpec> blockSpecs(const Route& route) {
       continue;
     }
     spec.radius_m = std::abs(b.radius_m);
-    spec.left = b.radius_m > 0.0;
+    spec.direction = b.radius_m > 0.0 ? Turn::kLeft : Turn::kRight;
     spec.cant_m = std::abs(b.cant_m);
     spec.transition_m = 0.0;
     // A curve block is [transition] arc [transition]; read the lengths off its elements.

@@ -113,16 +113,13 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       throw ConfigError(fmt::format("{}:{}: radii must not be negative", where, number));
     if (const auto it = column.find("block"); it != column.end() && it->second < fields.size()) {
       const std::string& b = fields[it->second];
-      if (b == "station")
-        w.leg = BlockType::kStation;
-      else if (b == "tunnel")
-        w.leg = BlockType::kTunnel;
-      else if (b == "bridge")
-        w.leg = BlockType::kBridge;
-      else if (!(b.empty() || b == "straight" || b == "curve"))
+      const std::optional<BlockType> type = enumFromName<BlockType>(b);
+      if (type == BlockType::kStation || type == BlockType::kTunnel || type == BlockType::kBridge)
+        w.leg = *type;
+      else if (!(b.empty() || type == BlockType::kStraight || type == BlockType::kCurve))
         throw ConfigError(fmt::format(
-            "{}:{}: column 'block': '{}' is not one of station, tunnel, bridge, straight", where,
-            number, b));
+            "{}:{}: column 'block': '{}' is not one of station, tunnel, bridge, straight, curve",
+            where, number, b));
     }
     points.push_back(w);
   }

@@ -51,12 +51,19 @@ class Scenario {
     return at(path).get<T>();
   }
 
-  std::uint64_t seed() const { return get<std::uint64_t>("seed"); }
+  /// The master seed (seedParam()).
+  std::uint64_t seed() const;
 
  private:
   explicit Scenario(Json resolved) : resolved_(std::move(resolved)) {}
   Json resolved_;
 };
+
+/// The top-level `seed` every scenario has: every random stream is keyed by (seed, stream
+/// name, index). Declared here, beside Scenario::seed() that reads it.
+Param seedParam();
+/// Sets the seed of an unresolved scenario document (trainsim --seed).
+void overrideSeed(Json& input, std::uint64_t seed);
 
 /// Converts "a.b[2].c" to the JSON pointer "/a/b/2/c".
 Json::json_pointer pointerFromPath(std::string_view path);

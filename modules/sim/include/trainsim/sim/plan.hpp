@@ -102,9 +102,9 @@ class Plan {
 /// sections it reads (its key hashes them with the keys of the stages it builds on), and whether
 /// it is built yet. generate() reports the stages that are not as "not simulated yet".
 struct PipelineStage {
-  const char* name;
-  const char* description;
-  std::span<const char* const> sections;
+  std::string name;
+  std::string description;
+  std::vector<std::string> sections;  ///< top-level scenario keys, from the section bindings
   bool implemented;
 };
 std::span<const PipelineStage> pipelineStages();

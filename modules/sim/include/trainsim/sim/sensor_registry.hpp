@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "trainsim/scenario/param.hpp"
+#include "trainsim/scenario/schema.hpp"
 #include "trainsim/sim/sensor.hpp"
 
 namespace trainsim::sim {
@@ -14,8 +15,7 @@ namespace trainsim::sim {
 struct SensorKind {
   const char* key;          ///< array name under "sensors", plural: "imus", "lidars"
   const char* description;  ///< one line for the schema table
-  /// The declaration every item of sensors.<key>[] follows. Periods use
-  /// `.multipleOf("trajectory.sample_period_ns")`.
+  /// The declaration every item of sensors.<key>[] follows (from the kind's binding).
   scenario::Param (*declare)();
   std::unique_ptr<Sensor> (*create)(const SensorSetup& setup);
   /// The files a sensor of this kind writes in the sequence folder, with "{}" for its name
@@ -35,6 +35,9 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
 /// Creates every sensor configured in the context's scenario, kind by kind in table order.
 /// The sensors keep references into `context`, which must outlive them.
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context);
+
+/// Adds the `sensors` section: an array per kind, and the name check below.
+void addSensorsSection(scenario::Schema& schema);
 
 /// Checks sensor names across all kinds: each unique (naming both JSON paths when two clash),
 /// safe as a file name, and no two sensors writing the same file. Appends problems.

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "trainsim/core/enum_names.hpp"
+
 namespace trainsim::track {
 
 /// Shape of the curvature ramp in a transition curve.
@@ -12,6 +14,11 @@ enum class TransitionShape {
   kClothoid,  ///< curvature linear in s (Euler spiral): constant lateral jerk at constant speed
   kBloss,     ///< κ0 + Δκ (3t² − 2t³), t = s/L: curvature rate zero at both ends
 };
+inline constexpr EnumName<TransitionShape> kTransitionShapeNames[] = {
+    {TransitionShape::kClothoid, "clothoid"}, {TransitionShape::kBloss, "bloss"}};
+constexpr std::span<const EnumName<TransitionShape>> enumNames(TransitionShape) {
+  return kTransitionShapeNames;
+}
 
 /// One element of a horizontal alignment, defined by its curvature law κ(s) on [0, length].
 /// Curvature is signed: positive turns left (counter-clockwise seen from above, in ENU).

@@ -11,21 +11,32 @@
 
 namespace trainsim::track {
 
+/// The turnouts the layout generator lays: diverging radius and crossing ratio 1:n.
+enum class TurnoutType { k190_1_9, k500_1_12 };
+inline constexpr EnumName<TurnoutType> kTurnoutTypeNames[] = {{TurnoutType::k190_1_9, "190-1:9"},
+                                                              {TurnoutType::k500_1_12, "500-1:12"}};
+constexpr std::span<const EnumName<TurnoutType>> enumNames(TurnoutType) {
+  return kTurnoutTypeNames;
+}
+
 /// A simple turnout: diverging-track radius at the track centreline and crossing angle
 /// tan α = 1/ratio (docs/REFERENCES.md R1.5).
 struct Turnout {
-  std::string name;
   double radius_m;
   double ratio;  ///< n of 1:n
 };
 
-/// Known turnouts: "190-1:9" (R 190 m, 1:9) and "500-1:12" (R 500 m, 1:12). Throws ConfigError
-/// naming `layout.auxiliary.turnout` for any other name.
-Turnout turnoutByName(const std::string& name);
+/// The geometry of a turnout type: "190-1:9" is R 190 m, 1:9; "500-1:12" is R 500 m, 1:12.
+Turnout turnoutGeometry(TurnoutType type);
 
 /// Which side of the main track auxiliary tracks are laid on (seen in the direction of
 /// increasing chainage).
 enum class AuxSide { kLeft, kRight, kEither };
+inline constexpr EnumName<AuxSide> kAuxSideNames[] = {
+    {AuxSide::kLeft, "left"}, {AuxSide::kRight, "right"}, {AuxSide::kEither, "either"}};
+constexpr std::span<const EnumName<AuxSide>> enumNames(AuxSide) {
+  return kAuxSideNames;
+}
 
 /// Parameters of the multi-track generator. Lengths in m, along main chainage unless noted.
 struct LayoutParams {
@@ -37,19 +48,52 @@ struct LayoutParams {
   double aux_parallel_max_m = 800.0;
   double turnout_probability =
       0.5;  ///< per end: turnout from the neighbouring track, else dead end
-  std::string turnout = "190-1:9";
+  TurnoutType turnout = TurnoutType::k190_1_9;
   double dead_end_length_m = 40.0;  ///< the dead-end straight of an entering/outgoing part (plan)
   AuxSide side = AuxSide::kEither;
 };
 
+/// What a stretch of a layout track is: on the main and double track the main block's type;
+/// on auxiliary tracks `kDeadEnd` (the straight ending at the buffer stop), `kTurnout` (the
+/// diverging arc of the turnout and the straight diagonal after it), `kCurve` (the arc that
+/// turns the track parallel, or away from it) and `kParallel`.
+enum class LayoutBlockType {
+  kStraight,
+  kCurve,
+  kStation,
+  kTunnel,
+  kBridge,
+  kSwitch,
+  kDeadEnd,
+  kTurnout,
+  kParallel
+};
+inline constexpr EnumName<LayoutBlockType> kLayoutBlockTypeNames[] = {
+    {LayoutBlockType::kStraight, "straight"}, {LayoutBlockType::kCurve, "curve"},
+    {LayoutBlockType::kStation, "station"},   {LayoutBlockType::kTunnel, "tunnel"},
+    {LayoutBlockType::kBridge, "bridge"},     {LayoutBlockType::kSwitch, "switch"},
+    {LayoutBlockType::kDeadEnd, "dead_end"},  {LayoutBlockType::kTurnout, "turnout"},
+    {LayoutBlockType::kParallel, "parallel"}};
+constexpr std::span<const EnumName<LayoutBlockType>> enumNames(LayoutBlockType) {
+  return kLayoutBlockTypeNames;
+}
+/// The layout block type of a main-track block type (same name).
+LayoutBlockType layoutBlockType(BlockType type);
+
+/// Which part of an auxiliary track a block belongs to; kWhole on the main and double track.
+enum class TrackPart { kWhole, kEntering, kParallel, kOutgoing };
+inline constexpr EnumName<TrackPart> kTrackPartNames[] = {{TrackPart::kWhole, "whole"},
+                                                          {TrackPart::kEntering, "entering"},
+                                                          {TrackPart::kParallel, "parallel"},
+                                                          {TrackPart::kOutgoing, "outgoing"}};
+constexpr std::span<const EnumName<TrackPart>> enumNames(TrackPart) {
+  return kTrackPartNames;
+}
+
 /// A stretch of one layout track with one type.
 struct LayoutBlock {
-  /// "straight", "curve", "station", "tunnel", "bridge" for the main and double track (the
-  /// main block's type); for auxiliary parts: "dead_end" (the straight ending at the buffer
-  /// stop), "turnout" (the diverging arc of the turnout and the straight diagonal after it),
-  /// "curve" (the arc that turns the track parallel, or away from it) and "parallel".
-  std::string type;
-  std::string part;      ///< "" for main/double; "entering", "parallel", "outgoing" otherwise
+  LayoutBlockType type = LayoutBlockType::kStraight;
+  TrackPart part = TrackPart::kWhole;
   double begin_m = 0.0;  ///< distance along this track's own polyline
   double end_m = 0.0;
   /// The main-track block alongside, where there is one (main and double track: the route
@@ -57,10 +101,19 @@ struct LayoutBlock {
   int main_block_id = -1;
 };
 
+/// What a layout track is.
+enum class TrackKind { kMain, kDouble, kAuxiliary };
+inline constexpr EnumName<TrackKind> kTrackKindNames[] = {{TrackKind::kMain, "main"},
+                                                          {TrackKind::kDouble, "double"},
+                                                          {TrackKind::kAuxiliary, "auxiliary"}};
+constexpr std::span<const EnumName<TrackKind>> enumNames(TrackKind) {
+  return kTrackKindNames;
+}
+
 /// One track of the layout as a polyline in the world frame (ENU, m).
 struct LayoutTrack {
   int id = 0;
-  std::string kind;       ///< "main", "double", "auxiliary"
+  TrackKind kind = TrackKind::kMain;
   int joins_track = -1;   ///< id of the track a turnout connects it to (auxiliary), else -1
   double offset_m = 0.0;  ///< lateral offset of the parallel part from the main track (+ left)
   double main_chainage_begin_m = 0.0, main_chainage_end_m = 0.0;  ///< main chainage it spans

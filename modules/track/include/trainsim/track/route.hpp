@@ -4,6 +4,7 @@
 #include <string_view>
 #include <vector>
 
+#include "trainsim/core/enum_names.hpp"
 #include "trainsim/track/track.hpp"
 
 namespace trainsim::track {
@@ -11,7 +12,14 @@ namespace trainsim::track {
 /// What a stretch of track is. `kSwitch` is reserved for turnouts on the main line.
 enum class BlockType { kStraight, kCurve, kStation, kTunnel, kBridge, kSwitch };
 
-std::string_view blockTypeName(BlockType type);
+/// Names in scenario files (route.blocks[].type), railroad.json and waypoint CSVs.
+inline constexpr EnumName<BlockType> kBlockTypeNames[] = {
+    {BlockType::kStraight, "straight"}, {BlockType::kCurve, "curve"},
+    {BlockType::kStation, "station"},   {BlockType::kTunnel, "tunnel"},
+    {BlockType::kBridge, "bridge"},     {BlockType::kSwitch, "switch"}};
+constexpr std::span<const EnumName<BlockType>> enumNames(BlockType) {
+  return kBlockTypeNames;
+}
 
 /// A contiguous stretch of the main track with one type and speed limit. Blocks tile the
 /// route: each starts where the previous one ends.
@@ -35,7 +43,7 @@ struct DesignRules {
   double max_cant_deficiency_m = 0.130;
   double max_cant_rate_m_s = 0.050;        ///< dD/dt
   double max_deficiency_rate_m_s = 0.055;  ///< dI/dt
-  double max_cant_gradient = 1.0 / 444.0;  ///< dD/ds, m/m
+  double max_cant_gradient = 2.25e-3;      ///< dD/ds, m/m (1:444)
   double min_element_duration_s = 1.8;     ///< straights and arcs last at least this at speed
   double max_grade = 0.0125;               ///< tan θ
   double max_vertical_accel_m_s2 = 0.2;    ///< R_v ≥ v² / a_v

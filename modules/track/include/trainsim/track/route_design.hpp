@@ -28,15 +28,15 @@ struct SpecialBlockParams {
 
 /// Parameters of the seeded random route generator.
 struct RouteGeneratorParams {
-  double length_m = 5000.0;
+  double length_m = 6000.0;
   double radius_min_m = 0.0;  ///< 0: the minimum radius for the design speed
   double radius_max_m = 4000.0;
   double curve_share = 0.4;  ///< fraction of the length in curves (transitions included)
   double arc_length_min_m = 150.0;
   double arc_length_max_m = 800.0;
-  SpecialBlockParams station{0.25, 250.0, 250.0};
-  SpecialBlockParams tunnel{0.1, 200.0, 1000.0};
-  SpecialBlockParams bridge{0.1, 50.0, 400.0};
+  SpecialBlockParams station{0.3, 250.0, 250.0};
+  SpecialBlockParams tunnel{0.15, 200.0, 800.0};
+  SpecialBlockParams bridge{0.15, 50.0, 300.0};
   double grade_max = 0.0125;  ///< largest |tan θ| drawn (≤ rules.max_grade)
   double grade_length_min_m = 600.0;
   double grade_length_max_m = 2500.0;
@@ -71,15 +71,21 @@ DesignedRoute importWaypoints(const std::filesystem::path& csv, const GeodeticAn
 
 /// One block of a route given as an explicit list (route.source = "blocks"): what a designer
 /// edits in the studio's block table.
+enum class Turn { kLeft, kRight };
+inline constexpr EnumName<Turn> kTurnNames[] = {{Turn::kLeft, "left"}, {Turn::kRight, "right"}};
+constexpr std::span<const EnumName<Turn>> enumNames(Turn) {
+  return kTurnNames;
+}
+
 struct BlockSpec {
   BlockType type = BlockType::kStraight;  ///< straight, curve, station, tunnel or bridge
   /// Straight-like blocks: their length; curves: the length of the circular arc alone.
-  double length_m = 0.0;
-  double radius_m = 0.0;       ///< curves: arc radius (> 0)
-  bool left = true;            ///< curves: turns left (else right)
-  double transition_m = -1.0;  ///< curves: each transition; < 0 chooses the design minimum
-  double cant_m = -1.0;        ///< curves: applied cant magnitude; < 0 lets the rules choose
-  double grade = 0.0;          ///< tan θ of the grade from the start of this block on
+  double length_m = 500.0;
+  double radius_m = 1500.0;      ///< curves: arc radius (> 0)
+  Turn direction = Turn::kLeft;  ///< curves: the way the curve turns
+  double transition_m = -1.0;    ///< curves: each transition; < 0 chooses the design minimum
+  double cant_m = -1.0;          ///< curves: applied cant magnitude; < 0 lets the rules choose
+  double grade = 0.0;            ///< tan θ of the grade from the start of this block on
 };
 
 /// Lays out a route block by block, starting east at the origin. Grade changes at block starts

@@ -17,6 +17,11 @@ inline constexpr double kCantBase_m = 1.5;
 /// each end of the ramp, so the vertical velocity steps there (by v ΔD'/2); Bloss ramps are
 /// smooth. Rotation about the centre is the default.
 enum class CantRotation { kInnerRail, kCentre };
+inline constexpr EnumName<CantRotation> kCantRotationNames[] = {
+    {CantRotation::kCentre, "centre"}, {CantRotation::kInnerRail, "inner_rail"}};
+constexpr std::span<const EnumName<CantRotation>> enumNames(CantRotation) {
+  return kCantRotationNames;
+}
 
 /// The track centreline at top of rail and its derivatives with respect to u, the distance
 /// along the track in 3D (the train's odometer distance).

@@ -1,0 +1,91 @@
+#pragma once
+
+// The scenario's sections as the code runs on them: one typed struct per section, bound to
+// its JSON declaration in one place (scenario/binding.hpp). The declarations live beside
+// their bindings in modules/sim/src/sections/; the schema (schema.cpp) lists the sections in
+// one table. Code reads a section with e.g. routeSection().read(scenario.json()) and names a
+// field's JSON path with routeSection().path(&RouteConfig::source) — never by a string.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trainsim/core/enum_names.hpp"
+#include "trainsim/core/geodesy.hpp"
+#include "trainsim/core/time.hpp"
+#include "trainsim/scenario/binding.hpp"
+#include "trainsim/track/layout.hpp"
+#include "trainsim/track/motion.hpp"
+#include "trainsim/track/route_design.hpp"
+#include "trainsim/track/vehicle.hpp"
+
+namespace trainsim::sim {
+
+/// Where the main track comes from.
+enum class RouteSource { kGenerated, kWaypoints, kBlocks };
+inline constexpr EnumName<RouteSource> kRouteSourceNames[] = {
+    {RouteSource::kGenerated, "generated"},
+    {RouteSource::kWaypoints, "waypoints"},
+    {RouteSource::kBlocks, "blocks"}};
+constexpr std::span<const EnumName<RouteSource>> enumNames(RouteSource) {
+  return kRouteSourceNames;
+}
+
+/// `route`: where the main track comes from and how it is laid out.
+struct RouteConfig {
+  RouteSource source = RouteSource::kGenerated;
+  std::string waypoints_file;  ///< absolute, or relative to the working directory once resolved
+  track::WaypointParams waypoints;
+  track::RouteOptions options;  ///< all but `rules`, which is the design section
+  track::RouteGeneratorParams generator;
+  std::vector<track::BlockSpec> blocks;
+};
+
+/// `train`: longitudinal limits, the body on its bogies, the reported point, dynamics.
+struct TrainConfig {
+  track::MotionLimits limits;
+  track::VehicleGeometry vehicle;
+  /// Body point whose pose the trajectory reports (body axes, m).
+  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();
+  track::TrainDynamics dynamics;
+};
+
+/// `trajectory`: the movement system's clock.
+struct TrajectoryConfig {
+  TimeNs sample_period_ns = 10'000'000;  ///< T_S
+};
+
+/// `dataset`: the KITTI sequence and the frame clock of the visual sensors.
+struct DatasetConfig {
+  int sequence = 0;
+  TimeNs frame_period_ns = 100'000'000;
+};
+
+const scenario::Section<GeodeticPoint>& geodeticOriginSection();
+/// "trajectory.sample_period_ns": the period every other period is a multiple of.
+std::string samplePeriodPath();
+const scenario::Section<TrajectoryConfig>& trajectorySection();
+const scenario::Section<DatasetConfig>& datasetSection();
+const scenario::Section<RouteConfig>& routeSection();
+const scenario::Section<track::DesignRules>& designSection();
+/// One item of route.blocks as JSON (the block binding's writer).
+scenario::Json routeBlockJson(const track::BlockSpec& block);
+const scenario::Section<track::LayoutParams>& layoutSection();
+const scenario::Section<TrainConfig>& trainSection();
+
+/// x_m, y_m, z_m of a body-axes position (train.reference_point, sensor mounts): within
+/// 100 m forward or back and 10 m sideways and up or down.
+template <typename T, typename Ref>
+void bindBodyPosition(scenario::Binding<T>& b, Ref position) {
+  constexpr double x_limit_m = 100.0, yz_limit_m = 10.0;
+  const auto axis = [position](int i) {
+    return [position, i](T& t) -> double& { return std::invoke(position, t)[i]; };
+  };
+  const scenario::Unit m = scenario::units::si("m");
+  b.number("x_m", axis(0), m, "Forward").range(-x_limit_m, x_limit_m);
+  b.number("y_m", axis(1), m, "Left").range(-yz_limit_m, yz_limit_m);
+  b.number("z_m", axis(2), m, "Up").range(-yz_limit_m, yz_limit_m);
+}
+
+}  // namespace trainsim::sim
