@@ -40,7 +40,8 @@ Result run(const trainsim::scenario::Scenario& sc, const trainsim::sim::Trajecto
   const auto t0 = Clock::now();
   const sim::GenerateReport report = sim::runDataset(sc, &traj, std::move(sensors), options);
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  Result r{seconds, report.render_threads, io::readFile(options.out / "sequences/00/heavy.csv")};
+  Result r{seconds, report.render_threads,
+           io::readFile(options.out / io::DatasetLayout(0).inSequence("heavy.csv"))};
   fs::remove_all(options.out);
   return r;
 }

@@ -9,6 +9,7 @@
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/progress.hpp"
+#include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/generate.hpp"
 #include "trainsim/sim/plan.hpp"
@@ -100,7 +101,7 @@ void runPlan(const CommonOptions& args, const std::string& out) {
     throw IoError("cannot create folder " + out + ": " + ec.message());
   }
   const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
-  io::writeFileAtomic(std::filesystem::path(out) / "scenario.json", scenario.text());
+  io::writeFileAtomic(std::filesystem::path(out) / io::DatasetLayout::kScenario, scenario.text());
   sim::writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
     io::writeFileAtomic(std::filesystem::path(out) / name, bytes);
   });

@@ -3,10 +3,13 @@
 #include <QFile>
 #include <QFileInfo>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "trainsim/core/error.hpp"
+#include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/scenario/scenario.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::studio {
 
@@ -63,25 +66,17 @@ CsvTable readCsv(const QString& path) {
 DatasetFiles findDatasetFiles(const QString& root) {
   DatasetFiles out;
   out.root = root;
-  const std::string scenario_file = (root + "/scenario.json").toStdString();
+  const std::filesystem::path dir = root.toStdString();
+  const std::string scenario_file = (dir / io::DatasetLayout::kScenario).string();
   out.scenario = scenario::parseJson(scenario::readScenarioText(scenario_file), scenario_file);
-  // The manifest lists every sensor with its files (the readings file first), wherever
-  // dataset.sequence put them.
-  const std::string manifest_file = (root + "/manifest.json").toStdString();
-  const scenario::Json manifest =
-      scenario::parseJson(scenario::readScenarioText(manifest_file), manifest_file);
-  const std::map<std::string, std::map<std::string, QString>*> by_kind = {
-      {"imu", &out.imus},
-      {"gnss", &out.gnss},
-      {"odometer", &out.odometers},
-      {"balise_reader", &out.balises}};
-  for (const scenario::Json& s : manifest.at("sensors")) {
-    const auto it = by_kind.find(s.at("kind").get<std::string>());
-    if (it == by_kind.end() || !s.contains("files") || s["files"].empty())
-      continue;
-    const QString file = root + "/" + QString::fromStdString(s.at("files")[0].get<std::string>());
-    if (QFileInfo::exists(file))
-      (*it->second)[s.at("name").get<std::string>()] = file;
+  // The manifest lists every sensor with its files, wherever dataset.sequence put them.
+  for (const io::ManifestSensor& s : io::Manifest::read(dir).sensors) {
+    const scenario::Json* config = sim::findSensorConfig(out.scenario, s.name);
+    DatasetSensor sensor{s.name, s.kind, {}, config ? *config : scenario::Json()};
+    for (const std::string& f : s.files)
+      sensor.files << QString::fromStdString((dir / f).string());
+    if (!sensor.files.isEmpty() && QFileInfo::exists(sensor.files.front()))
+      out.sensors.push_back(std::move(sensor));
   }
   return out;
 }

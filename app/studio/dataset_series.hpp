@@ -1,9 +1,11 @@
 #pragma once
 
 #include <QString>
+#include <QStringList>
 #include <QVector>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "trainsim/scenario/param.hpp"
 
@@ -21,14 +23,25 @@ struct CsvTable {
 /// file when it cannot be read or a cell is not a number.
 CsvTable readCsv(const QString& path);
 
-/// The sensor files of a generated dataset (OUT/sequences/00), by sensor kind and name.
-struct DatasetFiles {
-  QString root;
-  scenario::Json scenario;                                        ///< OUT/scenario.json
-  std::map<std::string, QString> imus, gnss, odometers, balises;  ///< name → csv path
+/// One sensor of a generated dataset, as its manifest lists it.
+struct DatasetSensor {
+  std::string name;
+  std::string kind;   ///< the sensor's kind in the manifest ("imu", "gnss", …)
+  QStringList files;  ///< absolute paths, the readings file first
+  /// A copy of its item in the dataset's scenario.json (sensors.<kind list>[i]); null if the
+  /// scenario has no sensor of that name.
+  scenario::Json config;
 };
 
-/// Reads OUT/scenario.json and finds the sensor files it declares.
+/// A generated dataset as the studio reads it: scenario.json, the manifest and its sensors.
+struct DatasetFiles {
+  QString root;
+  scenario::Json scenario;  ///< OUT/scenario.json
+  std::vector<DatasetSensor> sensors;
+};
+
+/// Reads OUT/scenario.json and OUT/manifest.json (through io::DatasetLayout and io::Manifest);
+/// throws IoError/ConfigError naming the file.
 DatasetFiles findDatasetFiles(const QString& root);
 
 }  // namespace trainsim::studio

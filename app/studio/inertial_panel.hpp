@@ -7,6 +7,7 @@
 #include "dataset_series.hpp"
 #include "plan_service.hpp"
 #include "plot_panel.hpp"
+#include "sensor_views.hpp"
 
 class QComboBox;
 class QLabel;
@@ -14,10 +15,9 @@ class QLabel;
 namespace trainsim::studio {
 
 /// Inertial panels: the planned trajectory (speed, acceleration, angular rate, curvature over
-/// time or chainage) and, once a dataset exists, each simulated IMU, GNSS receiver, odometer
-/// and balise reader against the ground truth written with it (trajectory.csv and the
-/// <imu>_truth.csv files). Selecting a time emits timeSelected, which the design views use to
-/// place the train.
+/// time or chainage) and, once a dataset exists, the views registered for each of its sensors'
+/// kinds (sensor_views.hpp: IMU, GNSS, odometer and balise reader against the ground truth).
+/// Selecting a time emits timeSelected, which the design views use to place the train.
 class InertialPanel : public QWidget {
   Q_OBJECT
 
@@ -41,19 +41,13 @@ class InertialPanel : public QWidget {
  private:
   void refreshViews();
   void draw();
-  std::vector<PlotRow> imuRows(const std::string& name, bool gyro) const;
-  std::vector<PlotRow> gnssRows(const std::string& name) const;
-  std::vector<PlotRow> odometerRows(const std::string& name) const;
-  std::vector<PlotRow> baliseRows(const std::string& name) const;
-  /// A dataset CSV, read once per dataset (switching views does not read files again).
-  const CsvTable& table(const QString& path) const;
 
   QComboBox* view_;
   QLabel* note_;
   PlotPanel* plots_;
   std::shared_ptr<const PlanSnapshot> plan_;
-  std::optional<DatasetFiles> dataset_;
-  mutable std::map<QString, CsvTable> tables_;
+  std::unique_ptr<DatasetFiles> dataset_;
+  std::unique_ptr<DatasetTables> tables_;  // reads each CSV once per dataset
 };
 
 }  // namespace trainsim::studio

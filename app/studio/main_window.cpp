@@ -25,10 +25,24 @@
 #include "plan_view_2d.hpp"
 #include "schema_form.hpp"
 #include "trainsim/core/error.hpp"
+#include "trainsim/io/dataset_layout.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
 
 namespace trainsim::studio {
+namespace {
+
+// Scenario paths and names the menus edit, from the route section's binding.
+template <typename Member>
+std::string routePath(Member member) {
+  return sim::routeSection().path(member);
+}
+std::string sourceName(sim::RouteSource source) {
+  return std::string(nameOf(source));
+}
+
+}  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   setObjectName("mainWindow");
@@ -146,8 +160,9 @@ void MainWindow::buildMenus() {
       return;
     const QString rel = QDir(doc_.baseDir()).relativeFilePath(f);
     doc_.beginMacro("Import waypoints");
-    doc_.setValue("route.waypoints_file", (rel.startsWith("..") ? f : rel).toStdString());
-    doc_.setValue("route.source", "waypoints");
+    doc_.setValue(routePath(&sim::RouteConfig::waypoints_file),
+                  (rel.startsWith("..") ? f : rel).toStdString());
+    doc_.setValue(routePath(&sim::RouteConfig::source), sourceName(sim::RouteSource::kWaypoints));
     doc_.endMacro();
   });
   QAction* exportAction = file->addAction("&Export dataset…", this, [this] {
@@ -177,18 +192,19 @@ void MainWindow::buildMenus() {
   QMenu* route = menuBar()->addMenu("&Route");
   QAction* regenerate = route->addAction("Regenerate with a new &seed", this, [this] {
     doc_.beginMacro("Regenerate route");
-    doc_.setValue("route.source", "generated");
-    doc_.setValue("seed", QRandomGenerator::global()->bounded(1, 1'000'000'000));
+    doc_.setValue(routePath(&sim::RouteConfig::source), sourceName(sim::RouteSource::kGenerated));
+    doc_.setValue(scenario::seedParam().key, QRandomGenerator::global()->bounded(1, 1'000'000'000));
     doc_.endMacro();
   });
   QAction* asBlocks = route->addAction("Edit as &block list", this, [this] {
     if (!plan_)
       return;
     doc_.beginMacro("Edit route as block list");
-    doc_.setValue("route.blocks", sim::blockListJson(plan_->plan->route().route));
-    doc_.setValue("route.source", "blocks");
+    doc_.setValue(routePath(&sim::RouteConfig::blocks),
+                  sim::blockListJson(plan_->plan->route().route));
+    doc_.setValue(routePath(&sim::RouteConfig::source), sourceName(sim::RouteSource::kBlocks));
     doc_.endMacro();
-    form_->reveal("route.blocks");
+    form_->reveal(QString::fromStdString(routePath(&sim::RouteConfig::blocks)));
   });
   asBlocks->setToolTip(
       "Turn the current main track into route.blocks, one editable entry per block");
@@ -196,8 +212,8 @@ void MainWindow::buildMenus() {
   QMenu* run = menuBar()->addMenu("R&un");
   QAction* generate = run->addAction("&Generate dataset", this, [this] {
     const QString out = out_dir_->text();
-    const bool has_dataset =
-        QFileInfo::exists(out + "/manifest.json") || QFileInfo::exists(out + "/.trainsim");
+    const bool has_dataset = QFileInfo::exists(out + "/" + io::DatasetLayout::kManifest) ||
+                             QFileInfo::exists(out + "/" + io::DatasetLayout::kStateDir);
     if (has_dataset &&
         QMessageBox::question(this, "Generate dataset",
                               out + " already holds a dataset. Start over and replace it?") !=

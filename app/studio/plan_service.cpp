@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "trainsim/core/error.hpp"
+#include "trainsim/sim/config.hpp"
 
 namespace trainsim::studio {
 namespace {
@@ -64,7 +65,7 @@ std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario,
   snap->scenario = std::make_shared<const scenario::Scenario>(scenario);
   snap->plan = std::make_unique<sim::Plan>(planner.plan(scenario));
   const sim::Plan& plan = *snap->plan;
-  snap->train_length_m = scenario.get<double>("train.length_m");
+  snap->train_length_m = sim::trainSection().read(scenario.json()).limits.train_length_m;
 
   for (const track::LayoutTrack& t : plan.layout().tracks) {
     TrackLine line{t.id, t.kind, t.polyline, {}};

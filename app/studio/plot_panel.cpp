@@ -1,10 +1,18 @@
 #include "plot_panel.hpp"
 
+#include <algorithm>
+
 #include <qcustomplot.h>
 #include <QVBoxLayout>
 #include <cmath>
 
 namespace trainsim::studio {
+
+QVector<double> seconds(const QVector<double>& t_ns) {
+  QVector<double> out(t_ns.size());
+  std::transform(t_ns.begin(), t_ns.end(), out.begin(), [](double t) { return t * 1e-9; });
+  return out;
+}
 
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent), plot_(new QCustomPlot(this)) {
   auto* layout = new QVBoxLayout(this);

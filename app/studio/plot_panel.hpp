@@ -13,6 +13,15 @@ class QCPItemStraightLine;
 
 namespace trainsim::studio {
 
+/// Colours shared by every plot: a measurement, the truth, and three axes.
+inline const QColor kMeasuredColour(31, 119, 180);
+inline const QColor kTruthColour(20, 20, 20);
+inline const QColor kAxisColours[3] = {QColor(214, 39, 40), QColor(44, 160, 44),
+                                       QColor(31, 119, 180)};
+
+/// Nanoseconds to seconds, for time axes.
+QVector<double> seconds(const QVector<double>& t_ns);
+
 /// One line of a plot.
 struct Series {
   QString name;

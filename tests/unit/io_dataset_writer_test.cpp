@@ -70,7 +70,7 @@ const RunIdentity kRun{"0123456789abcdef", 42};
 TEST_F(Dataset, FreshRunCreatesLayoutAndFinishRemovesCheckpoint) {
   const fs::path out = root_ / "out";
   {
-    DatasetWriter w(out, "00", kRun, {});
+    DatasetWriter w(out, io::DatasetLayout(0), kRun, {});
     EXPECT_EQ(w.start(), DatasetWriter::Start::kFresh);
     EXPECT_TRUE(fs::is_directory(out / "sequences" / "00"));
     EXPECT_TRUE(fs::exists(out / ".trainsim" / "checkpoint.json"));
@@ -86,9 +86,9 @@ TEST_F(Dataset, FreshRunCreatesLayoutAndFinishRemovesCheckpoint) {
 TEST_F(Dataset, RefusesForeignNonEmptyFolderUnlessForcedAndKeepsForeignFiles) {
   writeFileAtomic(root_ / "notes.txt", "mine");
   fs::create_directories(root_ / "sequences" / "07");
-  EXPECT_THROW(DatasetWriter(root_, "00", kRun, {}), ConfigError);
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), kRun, {}), ConfigError);
   {
-    DatasetWriter w(root_, "00", kRun, {.force = true});
+    DatasetWriter w(root_, DatasetLayout(0), kRun, {.force = true});
     w.finish({});
   }
   EXPECT_EQ(readFile(root_ / "notes.txt"), "mine");
@@ -97,19 +97,21 @@ TEST_F(Dataset, RefusesForeignNonEmptyFolderUnlessForcedAndKeepsForeignFiles) {
 
 TEST_F(Dataset, CompleteDatasetNeedsForceAndResumeIsANoOpForTheSameRun) {
   {
-    DatasetWriter(root_, "00", kRun, {})
+    DatasetWriter(root_, DatasetLayout(0), kRun, {})
         .finish({{"scenario_hash", kRun.scenario_hash}, {"seed", 42}});
   }
-  EXPECT_THROW(DatasetWriter(root_, "00", kRun, {}), ConfigError);
-  EXPECT_EQ(DatasetWriter(root_, "00", kRun, {.resume = true}).start(),
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), kRun, {}), ConfigError);
+  EXPECT_EQ(DatasetWriter(root_, DatasetLayout(0), kRun, {.resume = true}).start(),
             DatasetWriter::Start::kAlreadyComplete);
-  EXPECT_THROW(DatasetWriter(root_, "00", {"ffffffffffffffff", 42}, {.resume = true}), ConfigError);
-  EXPECT_THROW(DatasetWriter(root_, "00", kRun, {.force = true, .resume = true}), ConfigError);
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), {"ffffffffffffffff", 42}, {.resume = true}),
+               ConfigError);
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), kRun, {.force = true, .resume = true}),
+               ConfigError);
 }
 
 TEST_F(Dataset, ResumeCutsAppendFilesBackToTheCheckpointAndDropsTemporaries) {
   {
-    DatasetWriter w(root_, "00", kRun, {});
+    DatasetWriter w(root_, DatasetLayout(0), kRun, {});
     auto& f = w.appendFile("sequences/00/imu.csv");
     f.write("header\nrow1\n");
     w.checkpoint(5, {{"imu", {{"bias", 0.25}}}});
@@ -119,9 +121,10 @@ TEST_F(Dataset, ResumeCutsAppendFilesBackToTheCheckpointAndDropsTemporaries) {
     // Simulate kill -9: skip the destructor's roll-back by leaking nothing but not finishing.
     std::ofstream(root_ / "sequences/00/imu.csv", std::ios::app) << "more";
   }
-  EXPECT_THROW(DatasetWriter(root_, "00", kRun, {}), ConfigError);  // needs --resume
-  EXPECT_THROW(DatasetWriter(root_, "00", {"ffffffffffffffff", 42}, {.resume = true}), ConfigError);
-  DatasetWriter w(root_, "00", kRun, {.resume = true});
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), kRun, {}), ConfigError);  // needs --resume
+  EXPECT_THROW(DatasetWriter(root_, DatasetLayout(0), {"ffffffffffffffff", 42}, {.resume = true}),
+               ConfigError);
+  DatasetWriter w(root_, DatasetLayout(0), kRun, {.resume = true});
   EXPECT_EQ(w.start(), DatasetWriter::Start::kResume);
   EXPECT_EQ(w.resumeSample(), 5);
   EXPECT_EQ(w.resumeState()["imu"]["bias"], 0.25);
@@ -132,7 +135,7 @@ TEST_F(Dataset, ResumeCutsAppendFilesBackToTheCheckpointAndDropsTemporaries) {
 
 TEST_F(Dataset, AbandonedRunRollsAppendFilesBackToLastCheckpoint) {
   {
-    DatasetWriter w(root_, "00", kRun, {});
+    DatasetWriter w(root_, DatasetLayout(0), kRun, {});
     auto& f = w.appendFile("sequences/00/gnss.csv");
     f.write("a\n");
     w.checkpoint(1, nullptr);

@@ -55,7 +55,7 @@ TEST(Movement, EachSensorFiresAtMultiplesOfItsPeriodOnTheSampleClock) {
   sensors.push_back(std::make_unique<Recorder>(traj, "every", ts));
   sensors.push_back(std::make_unique<Recorder>(traj, "third", 3 * ts));
   const fs::path out = freshDir("fires");
-  io::DatasetWriter writer(out, "00", {"h", 1}, {});
+  io::DatasetWriter writer(out, io::DatasetLayout(0), {"h", 1}, {});
   const auto readings = runMovement(traj, sensors, writer, {}).readings;
   const auto& every = static_cast<Recorder&>(*sensors[0]);
   const auto& third = static_cast<Recorder&>(*sensors[1]);
@@ -73,7 +73,7 @@ TEST(Movement, RejectsPeriodsThatAreNotMultiplesOfTs) {
   std::vector<std::unique_ptr<Sensor>> sensors;
   sensors.push_back(std::make_unique<Recorder>(traj, "odd", 15));
   const fs::path out = freshDir("odd");
-  io::DatasetWriter writer(out, "00", {"h", 1}, {});
+  io::DatasetWriter writer(out, io::DatasetLayout(0), {"h", 1}, {});
   EXPECT_THROW(runMovement(traj, sensors, writer, {}), RuntimeError);
   fs::remove_all(out);
 }
@@ -101,7 +101,7 @@ TEST(Movement, ASensorFailureStopsTheRunAndReachesTheCaller) {
   std::vector<std::unique_ptr<Sensor>> sensors;
   sensors.push_back(std::make_unique<Failing>());
   const fs::path out = freshDir("failing");
-  io::DatasetWriter writer(out, "00", {"h", 1}, {});
+  io::DatasetWriter writer(out, io::DatasetLayout(0), {"h", 1}, {});
   MovementOptions options;
   options.threads = 2;
   EXPECT_THROW(runMovement(traj, sensors, writer, options), RuntimeError);
@@ -123,7 +123,7 @@ TEST(FrameClock, WritesExactTimesAndPosesRelativeToFrameZero) {
   sensors.push_back(std::make_unique<FrameClock>(10 * ts, traj));
   const fs::path out = freshDir("frameclock");
   {
-    io::DatasetWriter writer(out, "00", {"h", 1}, {});
+    io::DatasetWriter writer(out, io::DatasetLayout(0), {"h", 1}, {});
     runMovement(traj, sensors, writer, {});
     writer.finish({});
   }

@@ -14,9 +14,9 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kStateDir = ".trainsim";
-constexpr const char* kCheckpoint = ".trainsim/checkpoint.json";
-constexpr const char* kManifest = "manifest.json";
+constexpr const char* kStateDir = DatasetLayout::kStateDir;
+constexpr const char* kCheckpoint = DatasetLayout::kCheckpoint;
+constexpr const char* kManifest = DatasetLayout::kManifest;
 
 void makeDirectories(const fs::path& dir) {
   std::error_code ec;
@@ -50,17 +50,11 @@ json readJson(const fs::path& path) {
 
 }  // namespace
 
-const std::vector<std::string>& DatasetWriter::ownEntries() {
-  static const std::vector<std::string> kEntries = {
-      kManifest,   "scenario.json", "railroad.json", "trajectory.csv", "design_report.json",
-      "sequences", kStateDir};
-  return kEntries;
-}
-
-DatasetWriter::DatasetWriter(fs::path root, std::string sequence, const RunIdentity& identity,
-                             const OutputPolicy& policy)
+DatasetWriter::DatasetWriter(fs::path root, const DatasetLayout& layout,
+                             const RunIdentity& identity, const OutputPolicy& policy)
     : root_(std::move(root)),
-      sequence_dir_(root_ / "sequences" / sequence),
+      layout_(layout),
+      sequence_dir_(root_ / layout.sequenceDir()),
       identity_hash_(identity.scenario_hash),
       identity_seed_(identity.seed) {
   if (policy.force && policy.resume) {
@@ -85,7 +79,7 @@ DatasetWriter::DatasetWriter(fs::path root, std::string sequence, const RunIdent
     if (!existed) {
       fs::remove_all(root_, ec);
     } else if (start_ == Start::kFresh) {
-      fs::remove_all(root_ / "sequences", ec);
+      fs::remove_all(root_ / DatasetLayout::kSequences, ec);
       fs::remove_all(root_ / kStateDir, ec);
     }
     throw;
@@ -146,7 +140,7 @@ void DatasetWriter::prepare(const RunIdentity& identity, const OutputPolicy& pol
 }
 
 void DatasetWriter::startOver() {
-  for (const auto& entry : ownEntries()) {
+  for (const auto& entry : DatasetLayout::ownEntries()) {
     removeAll(root_ / entry);
   }
 }

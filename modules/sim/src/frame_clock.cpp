@@ -25,10 +25,9 @@ FrameClock::FrameClock(TimeNs period, const Trajectory& trajectory)
                                                        : Eigen::Isometry3d::Identity()) {}
 
 void FrameClock::begin(io::DatasetWriter& writer, const nlohmann::json& /*state*/) {
-  const auto dir = writer.sequenceDir().lexically_relative(writer.root());
   const std::vector<std::string> files = outputs();
-  times_ = &writer.appendFile(dir / files[0]);
-  poses_ = &writer.appendFile(dir / files[1]);
+  times_ = &writer.appendFile(writer.layout().inSequence(files[0]));
+  poses_ = &writer.appendFile(writer.layout().inSequence(files[1]));
 }
 
 FrameLines FrameClock::read(std::int64_t k) const {

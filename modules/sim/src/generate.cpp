@@ -13,31 +13,22 @@
 namespace trainsim::sim {
 namespace {
 
-nlohmann::json manifest(const scenario::Scenario& scenario, const std::string& sequence,
-                        const std::string& sequence_dir, const Trajectory* trajectory,
-                        const GenerateReport& report) {
-  nlohmann::json sensors = nlohmann::json::array();
-  std::int64_t frames = 0;
+io::Manifest manifest(const scenario::Scenario& scenario, const io::DatasetLayout& layout,
+                      const Trajectory* trajectory, const GenerateReport& report) {
+  io::Manifest m;
   for (const auto& o : report.outputs) {
-    sensors.push_back(
-        {{"name", o.name}, {"kind", o.kind}, {"readings", o.readings}, {"files", o.files}});
-    if (o.kind == "frames")
-      frames = o.readings;
+    m.sensors.push_back({o.name, o.kind, o.readings, o.files});
+    if (o.kind == FrameClock::kKind)
+      m.frames = o.readings;
   }
-  nlohmann::json m = {
-      {"format", "trainsim-dataset"},
-      {"version", std::string(version())},
-      {"scenario_hash", scenario.hash()},
-      {"seed", scenario.seed()},
-      {"sequence", sequence},
-      {"sequence_dir", sequence_dir},
-      {"trajectory",
-       {{"sample_period_ns", trajectorySection().read(scenario.json()).sample_period_ns},
-        {"samples", trajectory ? trajectory->sampleCount() : 0}}},
-      {"frames", frames},
-      {"sensors", sensors},
-      {"not_simulated", report.not_run},
-  };
+  m.version = std::string(version());
+  m.scenario_hash = scenario.hash();
+  m.seed = scenario.seed();
+  m.sequence = layout.sequenceName();
+  m.sequence_dir = layout.sequenceDir().generic_string();
+  m.sample_period_ns = trajectorySection().read(scenario.json()).sample_period_ns;
+  m.samples = trajectory ? trajectory->sampleCount() : 0;
+  m.not_simulated = report.not_run;
   return m;
 }
 
@@ -50,15 +41,13 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   GenerateReport report;
   report.not_run = std::move(not_run);
   const DatasetConfig dataset = datasetSection().read(scenario.json());
-  const std::string sequence = fmt::format("{:02}", dataset.sequence);
-  io::DatasetWriter writer(options.out, sequence, {scenario.hash(), scenario.seed()},
-                           options.policy);
-  const std::filesystem::path sequence_dir = writer.sequenceDir().lexically_relative(writer.root());
+  const io::DatasetLayout layout(dataset.sequence);
+  io::DatasetWriter writer(options.out, layout, {scenario.hash(), scenario.seed()}, options.policy);
   if (writer.start() == io::DatasetWriter::Start::kAlreadyComplete) {
     report.already_complete = true;
     return report;
   }
-  writer.writeFile("scenario.json", scenario.text());
+  writer.writeFile(io::DatasetLayout::kScenario, scenario.text());
   if (write_plan)
     write_plan(writer);
 
@@ -74,14 +63,14 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     for (std::size_t i = 0; i < sensors.size(); ++i) {
       std::vector<std::string> files;
       for (const std::string& f : sensors[i]->outputs())
-        files.push_back((sequence_dir / f).generic_string());
+        files.push_back(layout.inSequence(f).generic_string());
       report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), run.readings[i], files});
     }
     report.threads = run.threads;
     report.render_threads = run.render_threads;
     report.samples = trajectory->sampleCount();
   }
-  writer.finish(manifest(scenario, sequence, sequence_dir.generic_string(), trajectory, report));
+  writer.finish(manifest(scenario, layout, trajectory, report).toJson());
   return report;
 }
 

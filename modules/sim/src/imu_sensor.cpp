@@ -16,6 +16,7 @@
 #include "trainsim/inertial/earth.hpp"
 #include "trainsim/inertial/error_model.hpp"
 #include "trainsim/sim/sensor_params.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -239,15 +240,14 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
   }
 
   std::string name() const override { return name_; }
-  std::string kind() const override { return "imu"; }
+  std::string kind() const override { return kImuKind; }
   TimeNs period() const override { return period_; }
   std::vector<std::string> outputs() const override { return sensorFiles(kImuCsvs, name_); }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
-    const auto dir = writer.sequenceDir().lexically_relative(writer.root());
     const std::vector<std::string> files = outputs();
-    csv_ = &writer.appendFile(dir / files[0]);
-    truth_ = &writer.appendFile(dir / files[1]);
+    csv_ = &writer.appendFile(writer.layout().inSequence(files[0]));
+    truth_ = &writer.appendFile(writer.layout().inSequence(files[1]));
     if (state.is_null()) {
       csv_->write("t_ns,ax_m_s2,ay_m_s2,az_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,mx_T,my_T,mz_T\n");
       truth_->write(

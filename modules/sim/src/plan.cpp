@@ -12,6 +12,7 @@
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
+#include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/schema.hpp"
 
@@ -350,9 +351,9 @@ std::string trajectoryCsv(const Plan& plan) {
 
 void writePlan(const Plan& plan,
                const std::function<void(const std::string&, const std::string&)>& write) {
-  write("railroad.json", railroadJson(plan));
-  write("design_report.json", designReportJson(plan));
-  write("trajectory.csv", trajectoryCsv(plan));
+  write(io::DatasetLayout::kRailroad, railroadJson(plan));
+  write(io::DatasetLayout::kDesignReport, designReportJson(plan));
+  write(io::DatasetLayout::kTrajectory, trajectoryCsv(plan));
 }
 
 scenario::Json blockListJson(const track::Route& route) {

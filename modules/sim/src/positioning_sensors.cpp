@@ -7,6 +7,7 @@
 #include "trainsim/positioning/gnss.hpp"
 #include "trainsim/positioning/odometer.hpp"
 #include "trainsim/sim/sensor_params.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -18,8 +19,7 @@ using scenario::Json;
 
 // A sensor's readings file: <name>.csv in the sequence folder.
 std::filesystem::path sequenceFile(io::DatasetWriter& writer, const std::string& name) {
-  return writer.sequenceDir().lexically_relative(writer.root()) /
-         sensorFiles(kReadingsCsv, name).front();
+  return writer.layout().inSequence(sensorFiles(kReadingsCsv, name).front());
 }
 
 const track::Route& requireRoute(const SensorSetup& setup) {
@@ -210,7 +210,7 @@ class GnssSensor final : public SensorOf<AntennaTruth> {
         outage_(fromSeconds(c.reacquisition_s)) {}
 
   std::string name() const override { return name_; }
-  std::string kind() const override { return "gnss"; }
+  std::string kind() const override { return kGnssKind; }
   TimeNs period() const override { return period_; }
   std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 
@@ -289,7 +289,7 @@ class OdometerSensor final : public SensorOf<WheelTruth> {
         model_(c.spec, period_, RandomStream(setup.context.scenario.seed(), name_ + ".odometer")) {}
 
   std::string name() const override { return name_; }
-  std::string kind() const override { return "odometer"; }
+  std::string kind() const override { return kOdometerKind; }
   TimeNs period() const override { return period_; }
   std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 
@@ -350,7 +350,7 @@ class BaliseReader final : public SensorOf<positioning::AntennaState> {
         detector_(makeDetector(setup, c)) {}
 
   std::string name() const override { return name_; }
-  std::string kind() const override { return "balise_reader"; }
+  std::string kind() const override { return kBaliseReaderKind; }
   TimeNs period() const override { return period_; }
   std::vector<std::string> outputs() const override { return sensorFiles(kReadingsCsv, name_); }
 

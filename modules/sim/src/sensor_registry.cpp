@@ -43,9 +43,6 @@ constexpr std::array<SensorKind, 4> kSensorKinds = {
 
 constexpr const char* kSensors = "sensors";
 
-// Files the run writes into the sequence folder itself; no sensor file may take their names.
-constexpr const char* kReservedFiles[] = {"times.txt", "poses.txt", "calib.txt"};
-
 bool safeFileName(const std::string& name) {
   if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-')
     return false;
@@ -76,6 +73,23 @@ std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context)
   return sensors;
 }
 
+const scenario::Json* findSensorConfig(const scenario::Json& scenario, const std::string& name) {
+  if (!scenario.contains(kSensors))
+    return nullptr;
+  for (const SensorKind& kind : sensorKinds()) {
+    if (!scenario[kSensors].contains(kind.key))
+      continue;
+    for (const scenario::Json& item : scenario[kSensors][kind.key]) {
+      try {
+        if (readSensorName(item) == name)
+          return &item;
+      } catch (const scenario::Json::exception&) {  // not a resolved item: no name
+      }
+    }
+  }
+  return nullptr;
+}
+
 void addSensorsSection(scenario::Schema& schema) {
   std::vector<scenario::Param> kinds;
   for (const SensorKind& kind : sensorKinds())
@@ -86,7 +100,7 @@ void addSensorsSection(scenario::Schema& schema) {
 
 void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
   std::map<std::string, std::string> names, files;  // name or file -> JSON path of its sensor
-  for (const char* reserved : kReservedFiles)
+  for (const std::string& reserved : io::DatasetLayout::sequenceFiles())
     files[reserved] = "the dataset";
   for (const SensorKind& kind : sensorKinds()) {
     const scenario::Json& list = resolved.at(kSensors).at(kind.key);

@@ -19,10 +19,8 @@ const Binding<track::LayoutParams>& auxiliaryBinding() {
     b.number("probability", &L::aux_probability, units::kNone,
              "Probability per eligible straight stretch")
         .range(0, 1);
-    b.number("parallel_min_m", &L::aux_parallel_min_m, kM, "Shortest parallel part")
-        .range(10, 1e5);
-    b.number("parallel_max_m", &L::aux_parallel_max_m, kM, "Longest parallel part")
-        .range(10, 1e5);
+    b.number("parallel_min_m", &L::aux_parallel_min_m, kM, "Shortest parallel part").range(10, 1e5);
+    b.number("parallel_max_m", &L::aux_parallel_max_m, kM, "Longest parallel part").range(10, 1e5);
     b.number("turnout_probability", &L::turnout_probability, units::kNone,
              "Probability that an end joins the next track through a turnout (else it is a "
              "dead end)")
@@ -43,8 +41,7 @@ const Binding<track::TrainDynamics>& dynamicsBinding() {
     Binding<D> b;
     b.boolean("enabled", &D::enabled, "Limit acceleration by traction, Davis resistance and grade");
     b.number("mass_kg", &D::mass_kg, units::si("kg"), "Train mass").range(1e3, 1e8);
-    b.number("rotating_mass_factor", &D::rotating_mass_factor, units::kNone, "1 + rho")
-        .range(1, 2);
+    b.number("rotating_mass_factor", &D::rotating_mass_factor, units::kNone, "1 + rho").range(1, 2);
     b.number("davis_a_n", &D::davis_a_n, units::si("N"), "Davis A").range(0, 1e7);
     b.number("davis_b_n_s_m", &D::davis_b_n_s_m, units::si("N s/m"), "Davis B").range(0, 1e7);
     b.number("davis_c_n_s2_m2", &D::davis_c_n_s2_m2, units::si("N s^2/m^2"), "Davis C")
@@ -94,7 +91,7 @@ const scenario::Section<TrainConfig>& trainSection() {
     scenario::Section<TrainConfig> s{
         "train", "The train: longitudinal limits, dynamics and the body on its bogies.", {}, {}};
     Binding<TrainConfig>& b = s.binding;
-    const auto limit = [](double track::MotionLimits::* m) {
+    const auto limit = [](double track::MotionLimits::*m) {
       return [m](TrainConfig& c) -> double& { return c.limits.*m; };
     };
     b.number("max_accel_m_s2", limit(&track::MotionLimits::accel_m_s2), units::si("m/s^2"),
@@ -110,8 +107,7 @@ const scenario::Section<TrainConfig>& trainSection() {
              "Train length: restrictions hold until the rear clears them")
         .range(1, 2000);
     b.number(
-         "bogie_spacing_m",
-         [](TrainConfig& c) -> double& { return c.vehicle.bogie_spacing_m; }, kM,
+         "bogie_spacing_m", [](TrainConfig& c) -> double& { return c.vehicle.bogie_spacing_m; }, kM,
          "Distance between the front car's bogie pivots")
         .range(1, 40);
     b.object("reference_point", &TrainConfig::reference_point, referencePointBinding(),
@@ -122,8 +118,8 @@ const scenario::Section<TrainConfig>& trainSection() {
     b.check([](const TrainConfig& c, const scenario::FieldPaths<TrainConfig>& at,
                std::vector<Problem>& out) {
       if (c.vehicle.bogie_spacing_m > c.limits.train_length_m)
-        out.push_back({at(c.vehicle.bogie_spacing_m),
-                       "must not exceed " + at(c.limits.train_length_m)});
+        out.push_back(
+            {at(c.vehicle.bogie_spacing_m), "must not exceed " + at(c.limits.train_length_m)});
     });
     return s;
   }();

@@ -21,10 +21,8 @@ Binding<SpecialBlockParams> specialBinding(const std::string& what) {
   b.number("probability", &SpecialBlockParams::probability, units::kNone,
            "Probability that a straight stretch holds a " + what)
       .range(0, 1);
-  b.number("length_min_m", &SpecialBlockParams::length_min_m, kM, "Shortest " + what)
-      .range(1, 1e5);
-  b.number("length_max_m", &SpecialBlockParams::length_max_m, kM, "Longest " + what)
-      .range(1, 1e5);
+  b.number("length_min_m", &SpecialBlockParams::length_min_m, kM, "Shortest " + what).range(1, 1e5);
+  b.number("length_max_m", &SpecialBlockParams::length_max_m, kM, "Longest " + what).range(1, 1e5);
   b.notAbove(&SpecialBlockParams::length_min_m, &SpecialBlockParams::length_max_m);
   return b;
 }
@@ -97,8 +95,8 @@ const Binding<BlockSpec>& blockBinding() {
       if (curve && s.length_m <= 0.0 && s.transition_m == 0.0)
         out.push_back({at(s.length_m), "a curve needs an arc or transitions"});
       if (!curve && s.length_m <= 0.0)
-        out.push_back({at(s.length_m),
-                       "must be positive for a " + std::string(nameOf(s.type)) + " block"});
+        out.push_back(
+            {at(s.length_m), "must be positive for a " + std::string(nameOf(s.type)) + " block"});
     });
     return b;
   }();
@@ -141,8 +139,8 @@ const scenario::Section<RouteConfig>& routeSection() {
         "station_stops", [](RouteConfig& c) -> bool& { return c.options.station_stops; },
         "The train stops at every station");
     b.number(
-         "station_dwell_s", [](RouteConfig& c) -> double& { return c.options.station_dwell_s; },
-         kS, "Dwell time at a station stop")
+         "station_dwell_s", [](RouteConfig& c) -> double& { return c.options.station_dwell_s; }, kS,
+         "Dwell time at a station stop")
         .range(0, 3600);
     b.object("generator", &RouteConfig::generator, generatorBinding(),
              "Seeded random route (route.source = generated).");
@@ -191,8 +189,7 @@ const scenario::Section<track::DesignRules>& designSection() {
     b.number("max_cant_rate_mm_s", &R::max_cant_rate_m_s, units::kMillimetrePerSecond,
              "Largest rate of change of cant dD/dt")
         .range(1, 200);
-    b.number("max_deficiency_rate_mm_s", &R::max_deficiency_rate_m_s,
-             units::kMillimetrePerSecond,
+    b.number("max_deficiency_rate_mm_s", &R::max_deficiency_rate_m_s, units::kMillimetrePerSecond,
              "Largest rate of change of cant deficiency dI/dt (lateral jerk)")
         .range(1, 200);
     b.number("max_cant_gradient_mm_m", &R::max_cant_gradient, units::kMillimetrePerMetre,
@@ -201,8 +198,7 @@ const scenario::Section<track::DesignRules>& designSection() {
     b.number("min_element_duration_s", &R::min_element_duration_s, kS,
              "Straights and arcs last at least this long at design speed (0.5 V m, V in km/h)")
         .range(0, 60);
-    b.number("max_grade_permille", &R::max_grade, units::kPermille, "Steepest grade")
-        .range(0, 100);
+    b.number("max_grade_permille", &R::max_grade, units::kPermille, "Steepest grade").range(0, 100);
     b.number("max_vertical_accel_m_s2", &R::max_vertical_accel_m_s2, units::si("m/s^2"),
              "Vertical acceleration on vertical curves: R_v >= v^2 / a_v")
         .range(0.01, 2);

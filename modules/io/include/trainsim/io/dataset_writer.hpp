@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/io/file_io.hpp"
 
 namespace trainsim::io {
@@ -26,7 +27,7 @@ struct RunIdentity {
   std::uint64_t seed = 0;
 };
 
-/// Owns the dataset folder (layout: docs/REFERENCES.md P3; behaviour: docs/ARCHITECTURE.md,
+/// Owns the dataset folder (its paths: DatasetLayout; behaviour: docs/ARCHITECTURE.md,
 /// "The dataset folder"): creates its layout, writes every file atomically, records checkpoints
 /// so that a killed run can be resumed byte-identically, and writes manifest.json last, as the
 /// mark of a complete dataset.
@@ -43,14 +44,15 @@ class DatasetWriter {
  public:
   enum class Start { kFresh, kResume, kAlreadyComplete };
 
-  DatasetWriter(std::filesystem::path root, std::string sequence, const RunIdentity& identity,
-                const OutputPolicy& policy);
+  DatasetWriter(std::filesystem::path root, const DatasetLayout& layout,
+                const RunIdentity& identity, const OutputPolicy& policy);
   ~DatasetWriter();
   DatasetWriter(const DatasetWriter&) = delete;
   DatasetWriter& operator=(const DatasetWriter&) = delete;
 
   Start start() const { return start_; }
   const std::filesystem::path& root() const { return root_; }
+  const DatasetLayout& layout() const { return layout_; }
   /// The sequence folder, e.g. OUT/sequences/00.
   const std::filesystem::path& sequenceDir() const { return sequence_dir_; }
 
@@ -73,9 +75,6 @@ class DatasetWriter {
   /// Marks the dataset complete: writes manifest.json and removes the checkpoint.
   void finish(const nlohmann::json& manifest);
 
-  /// Top-level entries TrainSim writes into a dataset folder (and may remove with --force).
-  static const std::vector<std::string>& ownEntries();
-
  private:
   void prepare(const RunIdentity& identity, const OutputPolicy& policy);
   void startOver();
@@ -83,6 +82,7 @@ class DatasetWriter {
   void rollBack() noexcept;
 
   std::filesystem::path root_;
+  DatasetLayout layout_;
   std::filesystem::path sequence_dir_;
   std::string identity_hash_;
   std::uint64_t identity_seed_ = 0;

@@ -173,8 +173,8 @@ class Binding {
     for (const EnumName<E>& n : enumNames(E{}))
       if (std::find(excluded.begin(), excluded.end(), n.value) == excluded.end())
         names.emplace_back(n.name);
-    Field& f = add(scenario::choice(std::move(key), "", std::move(names), std::move(description)),
-                   ref);
+    Field& f =
+        add(scenario::choice(std::move(key), "", std::move(names), std::move(description)), ref);
     f.fill = [ref](const T& t, Param& p) { p.default_value = std::string(nameOf(get(ref, t))); };
     f.read = [ref, k = f.proto.key](const Json& j, T& t) {
       const std::string name = j.at(k).template get<std::string>();
@@ -198,7 +198,9 @@ class Binding {
     f.read = [ref, &child, k = f.proto.key](const Json& j, T& t) {
       std::invoke(ref, t) = child.read(j.at(k), get(ref, t));
     };
-    f.write = [ref, &child, k = f.proto.key](const T& t, Json& j) { j[k] = child.write(get(ref, t)); };
+    f.write = [ref, &child, k = f.proto.key](const T& t, Json& j) {
+      j[k] = child.write(get(ref, t));
+    };
     f.check = [ref, &child, k = f.proto.key](const T& t, const std::string& prefix,
                                              std::vector<Problem>& out) {
       child.problems(get(ref, t), prefix + "." + k, out);
@@ -279,7 +281,7 @@ class Binding {
   void check(Check c) { checks_.push_back(std::move(c)); }
   /// The field `low` must not exceed the field `high` (min/max pairs); member pointers.
   template <typename M>
-  void notAbove(M T::* low, M T::* high) {
+  void notAbove(M T::*low, M T::*high) {
     check([low, high](const T& t, const FieldPaths<T>& at, std::vector<Problem>& out) {
       if (t.*low > t.*high)
         out.push_back({at(t.*low), "must not exceed " + at.key(t.*high)});
@@ -352,7 +354,7 @@ class Binding {
 
  private:
   struct Field {
-    Param proto;  // the declaration without its default
+    Param proto;                                   // the declaration without its default
     std::function<const void*(const T&)> address;  // of the bound value within a T
     std::function<std::optional<std::string>(const T&, const void*)> find;  // nested objects
     std::function<void(const T&, Param&)> fill;

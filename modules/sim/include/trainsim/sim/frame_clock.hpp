@@ -23,10 +23,14 @@ class FrameClock final : public SensorOf<FrameLines> {
  public:
   FrameClock(TimeNs period, const Trajectory& trajectory);
 
-  std::string name() const override { return "frames"; }
-  std::string kind() const override { return "frames"; }
+  static constexpr const char* kKind = "frames";
+
+  std::string name() const override { return kKind; }
+  std::string kind() const override { return kKind; }
   TimeNs period() const override { return period_; }
-  std::vector<std::string> outputs() const override { return {"times.txt", "poses.txt"}; }
+  std::vector<std::string> outputs() const override {
+    return {io::DatasetLayout::kTimes, io::DatasetLayout::kPoses};
+  }
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override;
 
  private:

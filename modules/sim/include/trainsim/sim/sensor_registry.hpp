@@ -10,6 +10,13 @@
 
 namespace trainsim::sim {
 
+/// Sensor::kind() of the registered kinds, as the manifest lists them (the studio's views are
+/// registered by these).
+inline constexpr const char* kImuKind = "imu";
+inline constexpr const char* kGnssKind = "gnss";
+inline constexpr const char* kOdometerKind = "odometer";
+inline constexpr const char* kBaliseReaderKind = "balise_reader";
+
 /// One kind of sensor: its scenario declaration and its factory. The scenario holds a list
 /// of sensors of each kind under `sensors.<key>[]` (e.g. `sensors.imus[]`).
 struct SensorKind {
@@ -35,6 +42,10 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
 /// Creates every sensor configured in the context's scenario, kind by kind in table order.
 /// The sensors keep references into `context`, which must outlive them.
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context);
+
+/// The item of the sensor named `name` in a resolved scenario document, of any kind; null if
+/// there is none.
+const scenario::Json* findSensorConfig(const scenario::Json& scenario, const std::string& name);
 
 /// Adds the `sensors` section: an array per kind, and the name check below.
 void addSensorsSection(scenario::Schema& schema);
