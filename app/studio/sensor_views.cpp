@@ -31,9 +31,10 @@ std::vector<PlotRow> imuRows(const DatasetSensor& sensor, const DatasetTables& d
         gyro ? std::string("w") + axis + "_rad_s" : std::string("a") + axis + "_m_s2";
     const std::string truth =
         gyro ? std::string("w") + axis + "_rad_s" : std::string("f") + axis + "_m_s2";
-    rows.push_back({QString::fromStdString(measured),
-                    {{QString::fromStdString(name + " " + measured), tm, m.at(measured), kMeasuredColour},
-                     {QString::fromStdString("truth " + truth), tt, t.at(truth), kTruthColour}}});
+    rows.push_back(
+        {QString::fromStdString(measured),
+         {{QString::fromStdString(name + " " + measured), tm, m.at(measured), kMeasuredColour},
+          {QString::fromStdString("truth " + truth), tt, t.at(truth), kTruthColour}}});
   }
   return rows;
 }

@@ -9,6 +9,8 @@
 #include <map>
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "trainsim/core/error.hpp"
 #include "trainsim/track/layout.hpp"
 #include "trainsim/track/route_design.hpp"
@@ -358,6 +360,59 @@ TEST(Layout, RejectsTrackCentreDistanceTooSmallForTurnout) {
   }
   p.track_centre_distance_m = 3.5;
   EXPECT_NO_THROW(buildLayout(route, p, 1));
+}
+
+// The frame along every track (main, double, auxiliary) against independent references: the
+// main track's own closed forms, the polyline points (P at their chainage), a central finite
+// difference of P for the tangent, and orthonormality.
+TEST(TrackFrame, AlongEveryTrackMatchesTheTrackAndItsPolyline) {
+  RouteGeneratorParams g;
+  g.length_m = 4000.0;
+  const DesignedRoute designed = generateRoute(g, RouteOptions{}, 5);
+  const Route& route = designed.route;
+  LayoutParams p;
+  p.aux_probability = 1.0;
+  const Layout layout = buildLayout(route, p, 2);
+  bool aux = false, canted = false;
+  for (const LayoutTrack& t : layout.tracks) {
+    aux = aux || t.kind == TrackKind::kAuxiliary;
+    ASSERT_EQ(t.main_chainage_m.size(), t.polyline.size());
+    for (std::size_t i = 0; i < t.polyline.size(); i += 7) {
+      const double x = t.main_chainage_m[i];
+      const TrackFrame f = trackFrame(route.track, t, x);
+      EXPECT_LT((f.position - t.polyline[i]).norm(), 1e-9) << "track " << t.id << " point " << i;
+      // Orthonormal, right-handed.
+      EXPECT_NEAR(f.tangent.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(f.left.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(f.tangent.dot(f.left), 0.0, 1e-12);
+      EXPECT_LT((f.up - f.tangent.cross(f.left)).norm(), 1e-12);
+      // The tangent is the direction of dP/dx (central difference, h = 10 µm: at a joint of a
+      // line and an arc the difference sees half the arc's curvature, an error of h/(2R)).
+      const double h = 1e-5;
+      if (x - h > t.main_chainage_begin_m && x + h < t.main_chainage_end_m) {
+        const Eigen::Vector3d fd = (trackFrame(route.track, t, x + h).position -
+                                    trackFrame(route.track, t, x - h).position)
+                                       .normalized();
+        EXPECT_LT((fd - f.tangent).norm(), 1e-6) << "track " << t.id << " at x " << x;
+      }
+      // Roll: the main track's at the same chainage, turning left about the tangent.
+      const TrackPoint tp = route.track.atChainage(x);
+      EXPECT_NEAR(f.roll_rad, tp.roll_rad, 1e-15);
+      EXPECT_NEAR(std::asin(f.left.z()), tp.roll_rad, 1e-6);
+      canted = canted || std::abs(tp.roll_rad) > 0.01;
+      if (t.kind == TrackKind::kMain) {
+        EXPECT_LT((f.position - tp.position).norm(), 1e-12);
+        EXPECT_LT((f.tangent - tp.d1.normalized()).norm(), 1e-9);
+      }
+    }
+    // By distance along the polyline: the same frame at the polyline's points.
+    const std::size_t mid = t.polyline.size() / 2;
+    EXPECT_LT(
+        (trackFrameAtDistance(route.track, t, t.distance_m[mid]).position - t.polyline[mid]).norm(),
+        1e-9);
+  }
+  EXPECT_TRUE(aux) << "the test route should hold an auxiliary track";
+  EXPECT_TRUE(canted) << "the test route should hold a canted curve";
 }
 
 }  // namespace

@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
+
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/random.hpp"
 
@@ -159,7 +161,7 @@ using PointFn = std::function<Eigen::Vector3d(const Interval&, double)>;
 // Appends point(x) for x in (x0, x1] uniformly in x, with just enough points for every 3D
 // chord to be at most `spacing_m` (re-sampled more finely until it is).
 void appendInterval(const PointFn& point, const Interval& iv, double spacing_m,
-                    std::vector<Eigen::Vector3d>& out) {
+                    std::vector<Eigen::Vector3d>& out, std::vector<double>& chainage) {
   const Eigen::Vector3d p0 = out.back();
   const Eigen::Vector3d p1 = point(iv, iv.x1);
   const double estimate = std::max((p1 - p0).norm(), iv.x1 - iv.x0) * 1.001;
@@ -181,6 +183,8 @@ void appendInterval(const PointFn& point, const Interval& iv, double spacing_m,
     n = std::max(n + 1, static_cast<std::size_t>(std::ceil(n * max_chord / spacing_m * 1.001)));
   }
   out.insert(out.end(), pts.begin(), pts.end());
+  for (std::size_t i = 1; i <= n; ++i)
+    chainage.push_back(i == n ? iv.x1 : iv.x0 + (iv.x1 - iv.x0) * static_cast<double>(i) / n);
 }
 
 // Fills the track's polyline, distances, blocks and turnout ranges from consecutive intervals.
@@ -189,9 +193,10 @@ void sampleTrack(const std::vector<Interval>& intervals, const PointFn& point, d
                  LayoutTrack& track) {
   track.polyline.clear();
   track.polyline.push_back(point(intervals.front(), intervals.front().x0));
+  track.main_chainage_m.assign(1, intervals.front().x0);
   std::vector<std::size_t> break_index{0};
   for (const Interval& iv : intervals) {
-    appendInterval(point, iv, spacing_m, track.polyline);
+    appendInterval(point, iv, spacing_m, track.polyline, track.main_chainage_m);
     break_index.push_back(track.polyline.size() - 1);
   }
   track.distance_m.assign(track.polyline.size(), 0.0);
@@ -243,26 +248,10 @@ std::vector<Interval> mainIntervals(const Route& route) {
 // Auxiliary-track geometry, as a lateral offset y(x) from the (straight) main track at main
 // chainage x: parallel lines, straight lines at ±α and circular arcs tangent to a parallel.
 
-struct Piece {
-  enum class Shape { kLine, kArc };
-  Shape shape = Shape::kLine;
-  double x0 = 0.0, x1 = 0.0;
-  // Line: offsets at both ends (taken from the neighbouring pieces, so joints are exact).
-  double y0 = 0.0, y1 = 0.0;
-  // Arc of radius r tangent at chainage xt to the parallel at offset yt, bending towards
-  // `bend` (±1): y = yt + bend·(r − sqrt(r² − (x − xt)²)).
-  double xt = 0.0, yt = 0.0, bend = 0.0, r = 0.0;
+struct Piece : OffsetPiece {
   LayoutBlockType type = LayoutBlockType::kStraight;
   TrackPart part = TrackPart::kWhole;
   bool in_turnout = false;
-
-  double offset(double x) const {
-    if (shape == Shape::kLine)
-      return x1 > x0 ? y0 + (y1 - y0) * (x - x0) / (x1 - x0) : y0;
-    const double u = x - xt;
-    // r − sqrt(r² − u²) without cancellation.
-    return yt + bend * u * u / (r + std::sqrt(std::max(0.0, r * r - u * u)));
-  }
 };
 
 Piece line(double x0, double x1, double y0, double y1, LayoutBlockType type, TrackPart part,
@@ -281,7 +270,7 @@ Piece line(double x0, double x1, double y0, double y1, LayoutBlockType type, Tra
 Piece arc(double x0, double x1, double xt, double yt, double bend, double r, LayoutBlockType type,
           TrackPart part, bool in_turnout) {
   Piece p = line(x0, x1, 0.0, 0.0, type, part, in_turnout);
-  p.shape = Piece::Shape::kArc;
+  p.shape = OffsetPiece::Shape::kArc;
   p.xt = xt;
   p.yt = yt;
   p.bend = bend;
@@ -486,6 +475,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
   main.id = 0;
   main.kind = TrackKind::kMain;
   main.main_chainage_end_m = track.length();
+  main.offset = {OffsetPiece::line(0.0, track.length(), 0.0, 0.0)};
   sampleTrack(
       blocks, [&](const Interval&, double s) { return mainFrame(track, s).position; }, spacing,
       main);
@@ -498,6 +488,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
     dbl.kind = TrackKind::kDouble;
     dbl.offset_m = -d;
     dbl.main_chainage_end_m = track.length();
+    dbl.offset = {OffsetPiece::line(0.0, track.length(), -d, -d)};
     sampleTrack(
         blocks,
         [&](const Interval&, double s) {
@@ -570,6 +561,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
       aux.offset_m = yp;
       aux.main_chainage_begin_m = pieces.front().x0;
       aux.main_chainage_end_m = pieces.back().x1;
+      aux.offset.assign(pieces.begin(), pieces.end());
       sampleTrack(
           auxIntervals(pieces, blocks),
           [&](const Interval& iv, double x) {
@@ -590,6 +582,69 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
     }
   }
   return layout;
+}
+
+double OffsetPiece::offset(double x) const {
+  if (shape == Shape::kLine)
+    return x1 > x0 ? y0 + (y1 - y0) * (x - x0) / (x1 - x0) : y0;
+  const double u = x - xt;
+  // r − sqrt(r² − u²) without cancellation.
+  return yt + bend * u * u / (r + std::sqrt(std::max(0.0, r * r - u * u)));
+}
+
+double OffsetPiece::slope(double x) const {
+  if (shape == Shape::kLine)
+    return x1 > x0 ? (y1 - y0) / (x1 - x0) : 0.0;
+  const double u = x - xt;
+  return bend * u / std::sqrt(std::max(1e-300, r * r - u * u));
+}
+
+OffsetPiece OffsetPiece::line(double x0, double x1, double y0, double y1) {
+  OffsetPiece p;
+  p.x0 = x0;
+  p.x1 = x1;
+  p.y0 = y0;
+  p.y1 = y1;
+  return p;
+}
+
+TrackFrame trackFrame(const Track& main, const LayoutTrack& track, double main_chainage_m) {
+  if (track.offset.empty())
+    throw RuntimeError(fmt::format("layout track {} has no offset law", track.id));
+  const double x = std::clamp(main_chainage_m, track.offset.front().x0, track.offset.back().x1);
+  const auto piece = std::lower_bound(track.offset.begin(), track.offset.end() - 1, x,
+                                      [](const OffsetPiece& p, double v) { return p.x1 < v; });
+  const double y = piece->offset(x), dy = piece->slope(x);
+  const TrackPoint tp = main.atChainage(x);
+  const Eigen::Vector3d t_plan(std::cos(tp.heading_rad), std::sin(tp.heading_rad), 0.0);
+  const Eigen::Vector3d l_plan(-t_plan.y(), t_plan.x(), 0.0);
+  // P(x) = main(x) + y(x) l(x), with dl/dx = −κ t and z from the main track at x.
+  const double dz_dx = std::tan(tp.pitch_rad);
+  const Eigen::Vector3d dp =
+      (1.0 - tp.curvature_1_m * y) * t_plan + dy * l_plan + Eigen::Vector3d(0.0, 0.0, dz_dx);
+  TrackFrame f;
+  f.main_chainage_m = x;
+  f.position = tp.position + y * l_plan;
+  f.tangent = dp.normalized();
+  f.roll_rad = tp.roll_rad;
+  // Left across the track: horizontal and square to the tangent, then turned by the roll
+  // about the tangent (left rail up for positive roll).
+  const Eigen::Vector3d level_left = Eigen::Vector3d::UnitZ().cross(f.tangent).normalized();
+  f.left = Eigen::AngleAxisd(f.roll_rad, f.tangent) * level_left;
+  f.up = f.tangent.cross(f.left);
+  return f;
+}
+
+TrackFrame trackFrameAtDistance(const Track& main, const LayoutTrack& track, double distance_m) {
+  const std::vector<double>& d = track.distance_m;
+  if (d.size() < 2 || track.main_chainage_m.size() != d.size())
+    throw RuntimeError(fmt::format("layout track {} has no sampled polyline", track.id));
+  const double u = std::clamp(distance_m, d.front(), d.back());
+  const std::size_t i = std::min<std::size_t>(
+      static_cast<std::size_t>(std::upper_bound(d.begin(), d.end(), u) - d.begin()), d.size() - 1);
+  const double w = d[i] > d[i - 1] ? (u - d[i - 1]) / (d[i] - d[i - 1]) : 0.0;
+  const std::vector<double>& x = track.main_chainage_m;
+  return trackFrame(main, track, x[i - 1] + w * (x[i] - x[i - 1]));
 }
 
 std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_distance_m) {

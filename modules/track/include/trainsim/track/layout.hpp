@@ -101,6 +101,35 @@ struct LayoutBlock {
   int main_block_id = -1;
 };
 
+/// The lateral offset y(x) of a layout track from the main track at main chainage x (+ left,
+/// in plan): a line between (x0, y0) and (x1, y1), or an arc of radius r tangent at xt to the
+/// parallel at yt, bending towards `bend` (±1): y = yt + bend·(r − sqrt(r² − (x − xt)²)).
+struct OffsetPiece {
+  enum class Shape { kLine, kArc };
+  Shape shape = Shape::kLine;
+  double x0 = 0.0, x1 = 0.0;
+  double y0 = 0.0, y1 = 0.0;
+  double xt = 0.0, yt = 0.0, bend = 0.0, r = 0.0;
+
+  double offset(double x) const;
+  double slope(double x) const;  ///< dy/dx
+  static OffsetPiece line(double x0, double x1, double y0, double y1);
+};
+
+/// The frame of a layout track at one place: the centreline point at top of rail, the unit
+/// tangent (direction of travel along the track), the unit left normal across the track in the
+/// plane of the rails (horizontal for zero roll) and up = tangent × left; roll is the cant
+/// angle (positive with the left rail higher), which every track takes from the main track at
+/// the same chainage (auxiliary tracks lie beside straights, where it is zero).
+struct TrackFrame {
+  double main_chainage_m = 0.0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tangent = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d left = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double roll_rad = 0.0;
+};
+
 /// What a layout track is.
 enum class TrackKind { kMain, kDouble, kAuxiliary };
 inline constexpr EnumName<TrackKind> kTrackKindNames[] = {{TrackKind::kMain, "main"},
@@ -120,6 +149,8 @@ struct LayoutTrack {
   std::vector<LayoutBlock> blocks;
   std::vector<Eigen::Vector3d> polyline;  ///< world points, 3D spacing <= polyline_spacing_m
   std::vector<double> distance_m;         ///< along-polyline (3D chord) distance of each point
+  std::vector<double> main_chainage_m;    ///< main-track chainage x of each point
+  std::vector<OffsetPiece> offset;        ///< y(x) over [main_chainage_begin_m, _end_m]
   /// Along this polyline: stretches inside a turnout connection (closer than the track-centre
   /// distance by design).
   std::vector<std::pair<double, double>> turnout_ranges_m;
@@ -157,6 +188,14 @@ struct Layout {
 /// Throws ConfigError naming the `layout.*` field for invalid parameters, including a
 /// track-centre distance too small for the turnout (L_s < 0) when turnouts can be placed.
 Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t seed);
+
+/// The frame of `track` at main chainage x, in closed form from the main track and the track's
+/// offset law: P(x) = main(x) + y(x) l(x), tangent ∝ (1 − κ y) t + y′ l + (dz/dx) up. Exact on
+/// the polyline points (which are P at their main_chainage_m). x is clamped to the track.
+TrackFrame trackFrame(const Track& main, const LayoutTrack& track, double main_chainage_m);
+/// The frame at a distance along the track's polyline (its distance_m), through the main
+/// chainage interpolated between polyline points.
+TrackFrame trackFrameAtDistance(const Track& main, const LayoutTrack& track, double distance_m);
 
 /// A polyline point of an auxiliary track too close to another track.
 struct ClearanceIssue {
