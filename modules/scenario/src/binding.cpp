@@ -6,8 +6,8 @@
 
 namespace trainsim::scenario {
 
-double jsonDefault(double si_value, const Unit& unit) {
-  const double v = unit.fromSi(si_value);
+double jsonDefault(double value_si, const Unit& unit) {
+  const double v = unit.fromSi(value_si);
   if (!std::isfinite(v) || v == 0.0)
     return v;
   return std::stod(fmt::format("{:.12g}", v));

@@ -72,7 +72,7 @@ struct Sentinel {
 
 /// A default converted to its JSON unit, rounded to 12 significant digits so that 160/3.6 m/s
 /// reads back as 160 km/h.
-double jsonDefault(double si_value, const Unit& unit);
+double jsonDefault(double value_si, const Unit& unit);
 
 template <typename T>
 class Binding;
