@@ -72,8 +72,8 @@ TEST(ScenarioDefaults, EverySectionReadsItsStructsDefaultsBack) {
 TEST(ScenarioDefaults, PathsComeFromTheBindings) {
   EXPECT_EQ(routeSection().path(&RouteConfig::source), "route.source");
   EXPECT_EQ(routeSection().path([](const RouteConfig& c) -> const double& {
-              return c.generator.station.length_max_m;
-            }),
+    return c.generator.station.length_max_m;
+  }),
             "route.generator.station.length_max_m");
   EXPECT_EQ(layoutSection().path(&track::LayoutParams::aux_parallel_min_m),
             "layout.auxiliary.parallel_min_m");
@@ -138,7 +138,7 @@ std::vector<Literal> literals(const std::string& text, bool with_at) {
         break;
       ++i;
     } else if (c == '\'' && i > 0 && std::isalnum(static_cast<unsigned char>(text[i - 1]))) {
-      continue;  // a digit separator: 1'000'000
+      continue;              // a digit separator: 1'000'000
     } else if (c == '\'') {  // a character literal ('"', '\'')
       i = text.find('\'', i + (text[i + 1] == '\\' ? 3 : 2));
       if (i == std::string::npos)
@@ -166,8 +166,8 @@ TEST(ScenarioKeys, EachKeyIsSpelledOnceAndEveryPathInAMessageExists) {
   ASSERT_GT(declared.paths.size(), 100u);
   const std::filesystem::path root = TRAINSIM_SOURCE_DIR;
   const std::regex fragment(R"(\b([a-z_]+)((\.[A-Za-z_][A-Za-z0-9_]*|\[[^\]]*\])+))");
-  const std::set<std::string> file_extensions = {"csv", "txt", "json", "png", "bin",
-                                                 "label", "yaml", "md", "sh", "hpp", "cpp"};
+  const std::set<std::string> file_extensions = {"csv",  "txt", "json", "png", "bin", "label",
+                                                 "yaml", "md",  "sh",   "hpp", "cpp"};
   std::vector<std::string> problems;
   int files = 0;
   for (const char* dir : {"modules", "app"}) {

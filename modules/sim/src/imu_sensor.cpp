@@ -333,6 +333,11 @@ scenario::Param declareImu() {
       "measurement, <name>_truth.csv the true specific force, rate, field and biases.");
 }
 
+void checkImu(const scenario::Json& item, const std::string& path,
+              std::vector<scenario::Problem>& problems) {
+  imuBinding().problems(imuBinding().read(item), path, problems);
+}
+
 std::unique_ptr<Sensor> createImu(const SensorSetup& setup) {
   return std::make_unique<ImuSensor>(setup);
 }

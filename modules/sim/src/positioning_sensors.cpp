@@ -400,6 +400,19 @@ scenario::Param declareBaliseReader() {
       "balise_reader", "Balise groups along the main track and the train's reader.");
 }
 
+void checkGnss(const scenario::Json& item, const std::string& path,
+               std::vector<scenario::Problem>& problems) {
+  gnssBinding().problems(gnssBinding().read(item), path, problems);
+}
+void checkOdometer(const scenario::Json& item, const std::string& path,
+                   std::vector<scenario::Problem>& problems) {
+  odometerBinding().problems(odometerBinding().read(item), path, problems);
+}
+void checkBaliseReader(const scenario::Json& item, const std::string& path,
+                       std::vector<scenario::Problem>& problems) {
+  baliseReaderBinding().problems(baliseReaderBinding().read(item), path, problems);
+}
+
 std::unique_ptr<Sensor> createGnss(const SensorSetup& setup) {
   return std::make_unique<GnssSensor>(setup);
 }

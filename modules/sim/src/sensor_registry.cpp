@@ -24,8 +24,9 @@ namespace trainsim::sim {
 //      parameter once (units in the keys); `scenario::Param declareX()` returns its
 //      declaration and `std::unique_ptr<Sensor> createX(const SensorSetup&)` reads it.
 //   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX,
-//      kXFiles}, where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv;
-//      sensor_params.hpp) and its outputs() returns (sensorFiles).
+//      &checkX (the binding's checks: binding.problems(binding.read(item), path, out)), kXFiles},
+//      where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv; sensor_params.hpp)
+//      and its outputs() returns (sensorFiles).
 // The schema (sensors.<key>[]), validation, `trainsim schema`, docs/SCENARIO.md, the studio's
 // panels and the run loop pick the new kind up from this table; nothing else changes.
 //
@@ -34,11 +35,13 @@ namespace trainsim::sim {
 namespace {
 constexpr std::array<SensorKind, 4> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
-               &createImu, kImuCsvs},
-    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, kReadingsCsv},
-    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, kReadingsCsv},
+               &createImu, &checkImu, kImuCsvs},
+    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, &checkGnss,
+               kReadingsCsv},
+    SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, &checkOdometer,
+               kReadingsCsv},
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
-               &declareBaliseReader, &createBaliseReader, kReadingsCsv},
+               &declareBaliseReader, &createBaliseReader, &checkBaliseReader, kReadingsCsv},
 };
 
 constexpr const char* kSensors = "sensors";
@@ -96,6 +99,13 @@ void addSensorsSection(scenario::Schema& schema) {
     kinds.push_back(scenario::array(kind.key, kind.description, kind.declare()));
   schema.add(scenario::object(kSensors, "Simulated sensors, a list per kind.", std::move(kinds)));
   schema.addCheck(checkSensorNames);
+  schema.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
+    for (const SensorKind& kind : sensorKinds()) {
+      const scenario::Json& list = resolved.at(kSensors).at(kind.key);
+      for (std::size_t i = 0; i < list.size(); ++i)
+        kind.check(list[i], fmt::format("{}.{}[{}]", kSensors, kind.key, i), problems);
+    }
+  });
 }
 
 void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {

@@ -25,6 +25,9 @@ struct SensorKind {
   /// The declaration every item of sensors.<key>[] follows (from the kind's binding).
   scenario::Param (*declare)();
   std::unique_ptr<Sensor> (*create)(const SensorSetup& setup);
+  /// The checks across the fields of one resolved item (its binding's), at JSON path `path`.
+  void (*check)(const scenario::Json& item, const std::string& path,
+                std::vector<scenario::Problem>& problems);
   /// The files a sensor of this kind writes in the sequence folder, with "{}" for its name
   /// ("{}.csv", "{}_truth.csv"); the schema checks that no two sensors share a file.
   std::span<const char* const> files;
