@@ -143,10 +143,11 @@ TEST(Binding, ConvertsUnitsWhenReading) {
 }
 
 TEST(Binding, EnumChoicesComeFromTheNameTableLessExclusions) {
-  const Param* shape = schemaOf().root().field("outer")->field("shape");
+  const Schema schema = schemaOf();
+  const Param* shape = schema.root().field("outer")->field("shape");
   ASSERT_NE(shape, nullptr);
   EXPECT_EQ(shape->choices, (std::vector<std::string>{"round", "square"}));
-  const Schema::Resolution r = schemaOf().resolve({{"outer", {{"shape", "secret"}}}});
+  const Schema::Resolution r = schema.resolve({{"outer", {{"shape", "secret"}}}});
   ASSERT_EQ(r.problems.size(), 1u);
   EXPECT_EQ(r.problems[0].path, "outer.shape");
 }
