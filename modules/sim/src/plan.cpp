@@ -169,9 +169,9 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
   const double u_start = vehicle.bogie_spacing_m;
   const double u_end = u_length - 1.0;
   if (u_end <= u_start + 1.0)
-    throw ConfigError(trainSection().path([](const TrainConfig& c) -> const double& {
-      return c.vehicle.bogie_spacing_m;
-    }) + ": the route is too short for the train");
+    throw ConfigError(trainSection().path(scenario::nested(
+                          &TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m)) +
+                      ": the route is too short for the train");
   track::MotionProfile motion =
       track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_end);
   return std::make_shared<MotionStage>(MotionStage{

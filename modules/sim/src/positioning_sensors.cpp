@@ -48,9 +48,7 @@ const scenario::Binding<GnssConfig>& gnssBinding() {
     b.embed(&GnssConfig::basics,
             sensorBasics({"<name>.csv", kMinPeriod, kMaxPeriod, "Fix period (1 Hz by default)",
                           "Antenna phase centre (its attitude does not matter)"}));
-    const auto error = [](double E::*m) {
-      return [m](GnssConfig& c) -> double& { return c.errors.*m; };
-    };
+    const auto error = [](double E::*m) { return scenario::nested(&GnssConfig::errors, m); };
     b.number("horizontal_sigma_m", error(&E::horizontal_sigma_m), kM,
              "Gauss-Markov horizontal error, 1 sigma per axis")
         .range(0, 1000);
@@ -115,23 +113,20 @@ const scenario::Binding<OdometerConfig>& odometerBinding() {
     scenario::Binding<OdometerConfig> b;
     b.embed(&OdometerConfig::basics, sensorBasics({"<name>.csv", kMinPeriod, kMaxPeriod,
                                                    "Output period (100 Hz by default)", nullptr}));
-    b.number(
-         "wheel_diameter_m", [](OdometerConfig& c) -> double& { return c.spec.wheel_diameter_m; },
-         kM, "Nominal wheel diameter")
+    b.number("wheel_diameter_m", scenario::nested(&OdometerConfig::spec, &O::wheel_diameter_m), kM,
+             "Nominal wheel diameter")
         .range(0.3, 2.0);
-    b.integer(
-         "pulses_per_revolution",
-         [](OdometerConfig& c) -> int& { return c.spec.pulses_per_revolution; }, "",
-         "Encoder pulses per wheel turn")
+    b.integer("pulses_per_revolution",
+              scenario::nested(&OdometerConfig::spec, &O::pulses_per_revolution), "",
+              "Encoder pulses per wheel turn")
         .range(1, 100000);
     b.number(
-         "scale_error", [](OdometerConfig& c) -> double& { return c.spec.scale_error; }, kNone,
+         "scale_error", scenario::nested(&OdometerConfig::spec, &O::scale_error), kNone,
          "Distance scale error: the encoder reads (1 + e) times the distance travelled (worn or "
          "mis-calibrated wheel)")
         .range(-0.2, 0.2);
-    b.object(
-        "slip", [](OdometerConfig& c) -> O::Slip& { return c.spec.slip; }, slipBinding(),
-        "Wheel slip (traction) and slide (braking) episodes");
+    b.object("slip", scenario::nested(&OdometerConfig::spec, &O::slip), slipBinding(),
+             "Wheel slip (traction) and slide (braking) episodes");
     return b;
   }();
   return binding;
@@ -155,11 +150,7 @@ const scenario::Binding<BaliseReaderConfig>& baliseReaderBinding() {
                           "Reader polling period (events carry their own time)",
                           "Reader antenna under the carbody; a balise is read when the antenna's "
                           "x passes it (2 m ahead of the front bogie pivot by default)"}));
-    const auto place = [](auto P::*m) {
-      return [m](C & c) -> auto& {
-        return c.placement.*m;
-      };
-    };
+    const auto place = [](auto P::*m) { return scenario::nested(&C::placement, m); };
     b.number("first_group_m", place(&P::first_group_m), kM,
              "Distance of the first group from the route start")
         .range(0, 1e7);

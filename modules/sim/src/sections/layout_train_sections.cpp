@@ -92,7 +92,7 @@ const scenario::Section<TrainConfig>& trainSection() {
         "train", "The train: longitudinal limits, dynamics and the body on its bogies.", {}, {}};
     Binding<TrainConfig>& b = s.binding;
     const auto limit = [](double track::MotionLimits::*m) {
-      return [m](TrainConfig& c) -> double& { return c.limits.*m; };
+      return scenario::nested(&TrainConfig::limits, m);
     };
     b.number("max_accel_m_s2", limit(&track::MotionLimits::accel_m_s2), units::si("m/s^2"),
              "Largest acceleration")
@@ -106,9 +106,9 @@ const scenario::Section<TrainConfig>& trainSection() {
     b.number("length_m", limit(&track::MotionLimits::train_length_m), kM,
              "Train length: restrictions hold until the rear clears them")
         .range(1, 2000);
-    b.number(
-         "bogie_spacing_m", [](TrainConfig& c) -> double& { return c.vehicle.bogie_spacing_m; }, kM,
-         "Distance between the front car's bogie pivots")
+    b.number("bogie_spacing_m",
+             scenario::nested(&TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m), kM,
+             "Distance between the front car's bogie pivots")
         .range(1, 40);
     b.object("reference_point", &TrainConfig::reference_point, referencePointBinding(),
              "Body point whose pose is reported (body axes x fwd, y left, z up; origin midway "

@@ -121,26 +121,23 @@ const scenario::Section<RouteConfig>& routeSection() {
              "CSV of waypoints (n_m,e_m,d_m or latitude_deg,longitude_deg,height_m; optional "
              "radius_m, vertical_radius_m, block); relative paths are relative to the scenario "
              "file");
-    b.number(
-         "waypoint_radius_max_m",
-         [](RouteConfig& c) -> double& { return c.waypoints.radius_max_m; }, kM,
-         "Largest arc radius chosen at a waypoint that gives none")
+    b.number("waypoint_radius_max_m",
+             scenario::nested(&RouteConfig::waypoints, &track::WaypointParams::radius_max_m), kM,
+             "Largest arc radius chosen at a waypoint that gives none")
         .range(50, 1e6);
-    b.choice(
-        "transition_shape",
-        [](RouteConfig& c) -> track::TransitionShape& { return c.options.transition_shape; },
-        "Transition curve and matching cant ramp (clothoid: linear; Bloss: cubic)");
-    b.choice(
-        "cant_rotation",
-        [](RouteConfig& c) -> track::CantRotation& { return c.options.cant_rotation; },
-        "Axis the cant turns the track about: the centreline, or the low rail (the centreline "
-        "rises by D/2, with a vertical kink at the ends of linear ramps)");
-    b.boolean(
-        "station_stops", [](RouteConfig& c) -> bool& { return c.options.station_stops; },
-        "The train stops at every station");
-    b.number(
-         "station_dwell_s", [](RouteConfig& c) -> double& { return c.options.station_dwell_s; }, kS,
-         "Dwell time at a station stop")
+    b.choice("transition_shape",
+             scenario::nested(&RouteConfig::options, &track::RouteOptions::transition_shape),
+             "Transition curve and matching cant ramp (clothoid: linear; Bloss: cubic)");
+    b.choice("cant_rotation",
+             scenario::nested(&RouteConfig::options, &track::RouteOptions::cant_rotation),
+             "Axis the cant turns the track about: the centreline, or the low rail (the centreline "
+             "rises by D/2, with a vertical kink at the ends of linear ramps)");
+    b.boolean("station_stops",
+              scenario::nested(&RouteConfig::options, &track::RouteOptions::station_stops),
+              "The train stops at every station");
+    b.number("station_dwell_s",
+             scenario::nested(&RouteConfig::options, &track::RouteOptions::station_dwell_s), kS,
+             "Dwell time at a station stop")
         .range(0, 3600);
     b.object("generator", &RouteConfig::generator, generatorBinding(),
              "Seeded random route (route.source = generated).");
@@ -159,9 +156,8 @@ const scenario::Section<RouteConfig>& routeSection() {
                                 std::vector<Problem>& out) {
       const track::DesignRules rules = designSection().read(resolved);
       if (c.generator.grade_max > rules.max_grade)
-        out.push_back({routeSection().path([](const RouteConfig& r) -> const double& {
-                         return r.generator.grade_max;
-                       }),
+        out.push_back({routeSection().path(scenario::nested(&RouteConfig::generator,
+                                                            &RouteGeneratorParams::grade_max)),
                        "must not exceed " + designSection().path(&track::DesignRules::max_grade)});
     });
     return s;

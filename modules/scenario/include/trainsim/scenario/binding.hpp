@@ -77,6 +77,20 @@ double jsonDefault(double value_si, const Unit& unit);
 template <typename T>
 class Binding;
 
+/// A field of a member struct, as a binding's target or a path: nested(&RouteConfig::options,
+/// &track::RouteOptions::station_dwell_s) reaches config.options.station_dwell_s.
+template <typename T, typename M, typename U>
+struct Nested {
+  M T::*outer;
+  U M::*inner;
+  U& operator()(T& t) const { return t.*outer.*inner; }
+  const U& operator()(const T& t) const { return t.*outer.*inner; }
+};
+template <typename T, typename M, typename U>
+constexpr Nested<T, M, U> nested(M T::*outer, U M::*inner) {
+  return {outer, inner};
+}
+
 /// Names the fields of one bound value by their JSON paths, for checks: at(t.field) is
 /// "<prefix>.<key>" (nested objects included), at.key(t.field) the path below the prefix.
 template <typename T>
