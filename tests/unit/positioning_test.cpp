@@ -68,14 +68,42 @@ TEST(GnssErrorModel, RestoredStateContinuesBitForBit) {
               b.step(static_cast<std::uint64_t>(k)).position_m);
 }
 
-TEST(GnssOutage, NoFixInTunnelsNorDuringReacquisition) {
-  GnssOutage outage(5 * kSecond);
-  EXPECT_TRUE(outage.fix(0, false));
-  EXPECT_FALSE(outage.fix(1 * kSecond, true));
-  EXPECT_FALSE(outage.fix(2 * kSecond, true));
-  EXPECT_FALSE(outage.fix(3 * kSecond, false));
-  EXPECT_FALSE(outage.fix(6 * kSecond, false));
-  EXPECT_TRUE(outage.fix(7 * kSecond, false));  // 5 s after the last reading in the tunnel
+// A tunnel over [100, 200] m, passed at 7.3 m/s: the antenna leaves it at t = 200 / 7.3 s. At
+// any sample rate the first fix comes at the first sample at least 5 s after that, timed from
+// the exit itself (not from the last sample inside).
+TEST(GnssVisibility, FixReturnsTheReacquisitionDelayAfterTheAntennaLeavesTheTunnel) {
+  const GnssVisibility visibility({{100.0, 200.0}, {900.0, 950.0}}, 5 * kSecond);
+  const auto chainage = [](TimeNs t) { return 7.3 * toSeconds(std::max<TimeNs>(t, 0)); };
+  const double exit_s = 200.0 / 7.3;
+  EXPECT_TRUE(visibility.inTunnel(100.0));
+  EXPECT_TRUE(visibility.inTunnel(200.0));
+  EXPECT_FALSE(visibility.inTunnel(200.001));
+  EXPECT_FALSE(visibility.inTunnel(500.0));
+  for (const TimeNs period : {kSecond, kSecond / 10, kSecond / 100, kSecond / 1000}) {
+    TimeNs first_fix = -1;
+    for (TimeNs t = 0; t < 60 * kSecond; t += period) {
+      const double c = chainage(t);
+      const bool fix = visibility.fix(t, chainage);
+      if (c < 100.0) {
+        ASSERT_TRUE(fix) << t;
+      } else if (c <= 200.0) {
+        ASSERT_FALSE(fix) << "fix inside the tunnel at " << t;
+      } else if (first_fix < 0 && fix) {
+        first_fix = t;
+      }
+    }
+    ASSERT_GE(first_fix, 0);
+    EXPECT_GE(toSeconds(first_fix), exit_s + 5.0) << period;
+    EXPECT_LT(toSeconds(first_fix - period), exit_s + 5.0 + 1e-9) << period;
+  }
+}
+
+TEST(GnssVisibility, NoTunnelsOrNoDelayMeansAFixEverywhereOutside) {
+  const auto chainage = [](TimeNs t) { return 10.0 * toSeconds(t); };
+  EXPECT_TRUE(GnssVisibility({}, 5 * kSecond).fix(3 * kSecond, chainage));
+  const GnssVisibility no_delay({{10.0, 20.0}}, 0);
+  EXPECT_FALSE(no_delay.fix(kSecond + kSecond / 2, chainage));
+  EXPECT_TRUE(no_delay.fix(2 * kSecond + 1, chainage));
 }
 
 OdometerSpec noSlip(double scale_error) {

@@ -1,6 +1,8 @@
 #include "trainsim/positioning/gnss.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace trainsim::positioning {
 
@@ -45,10 +47,27 @@ void GnssErrorModel::restore(const nlohmann::json& state) {
   started_ = state.at("started").get<bool>();
 }
 
-bool GnssOutage::fix(TimeNs t, bool in_tunnel) {
-  if (in_tunnel)
-    last_tunnel_ = t;
-  return last_tunnel_ < 0 || t - last_tunnel_ >= reacquisition_;
+GnssVisibility::GnssVisibility(std::vector<std::pair<double, double>> tunnels, TimeNs reacquisition)
+    : tunnels_(std::move(tunnels)), reacquisition_(reacquisition) {}
+
+bool GnssVisibility::inTunnel(double c) const {
+  // The first tunnel ending at or after c.
+  const auto it = std::lower_bound(tunnels_.begin(), tunnels_.end(), c,
+                                   [](const auto& tunnel, double x) { return tunnel.second < x; });
+  return it != tunnels_.end() && it->first <= c;
+}
+
+bool GnssVisibility::fix(TimeNs t, const std::function<double(TimeNs)>& antenna_chainage) const {
+  const double c = antenna_chainage(t);
+  if (inTunnel(c))
+    return false;
+  // The last tunnel that ends before c.
+  const auto it = std::lower_bound(tunnels_.begin(), tunnels_.end(), c,
+                                   [](const auto& tunnel, double x) { return tunnel.second < x; });
+  if (it == tunnels_.begin() || reacquisition_ <= 0)
+    return true;
+  // Left it at least `reacquisition` ago iff it was already past its end back then.
+  return antenna_chainage(t - reacquisition_) > std::prev(it)->second;
 }
 
 }  // namespace trainsim::positioning

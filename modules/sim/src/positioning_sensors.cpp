@@ -68,7 +68,7 @@ const scenario::Binding<GnssConfig>& gnssBinding() {
              "Gauss-Markov velocity error (same correlation time), 1 sigma per axis")
         .range(0, 10);
     b.number("reacquisition_s", &GnssConfig::reacquisition_s, kS,
-             "No fix for this long after leaving a tunnel")
+             "No fix for this long after the antenna leaves a tunnel (timed from the exit)")
         .range(0, 600);
     return b;
   }();
@@ -176,13 +176,13 @@ const scenario::Binding<BaliseReaderConfig>& baliseReaderBinding() {
 }
 
 // ---------------------------------------------------------------------------------------
-// GNSS receiver: the antenna's true position and velocity (render), the error model and the
-// tunnel outage (commit).
+// GNSS receiver: the antenna's true position and velocity and whether it has a fix (render,
+// pure in the trajectory), the error model (commit).
 
 struct AntennaTruth {
   TimeNs t_ns = 0;
   Eigen::Vector3d p_world, v_world;
-  bool in_tunnel = false;
+  bool fix = false;  // outside tunnels and past the reacquisition delay
 };
 
 class GnssSensor final : public SensorOf<AntennaTruth> {
@@ -198,7 +198,7 @@ class GnssSensor final : public SensorOf<AntennaTruth> {
         mount_(c.basics.mount.mount()),
         ahead_of_front_(aheadOfFrontPivot(setup.context.scenario.json(), mount_)),
         errors_(c.errors, period_, RandomStream(setup.context.scenario.seed(), name_ + ".gnss")),
-        outage_(fromSeconds(c.reacquisition_s)) {}
+        visibility_(tunnels(route_), fromSeconds(c.reacquisition_s)) {}
 
   std::string name() const override { return name_; }
   std::string kind() const override { return kGnssKind; }
@@ -211,29 +211,34 @@ class GnssSensor final : public SensorOf<AntennaTruth> {
       csv_->write("t_ns,fix,latitude_deg,longitude_deg,height_m,ve_m_s,vn_m_s,vu_m_s\n");
     } else {
       errors_.restore(state.at("errors"));
-      outage_.restore(state.at("last_tunnel_ns").get<TimeNs>());
     }
   }
 
-  nlohmann::json state() const override {
-    return {{"errors", errors_.state()}, {"last_tunnel_ns", outage_.lastTunnel()}};
-  }
+  nlohmann::json state() const override { return {{"errors", errors_.state()}}; }
 
  private:
+  static std::vector<std::pair<double, double>> tunnels(const track::Route& route) {
+    std::vector<std::pair<double, double>> out;
+    for (const track::Block& b : route.blocks)
+      if (b.type == track::BlockType::kTunnel)
+        out.emplace_back(b.chainage_begin_m, b.chainage_end_m);
+    return out;
+  }
+
   AntennaTruth read(std::int64_t k) const override {
     const TrajectorySample s = trajectory_.sample(k);
     const Eigen::Matrix3d r = s.q_world_body.toRotationMatrix();
     const Eigen::Vector3d& arm = mount_.position_m;
-    const double chainage = s.chainage_m + ahead_of_front_;
-    const track::Block& b = route_.blockAt(chainage);
+    const auto antenna_chainage = [&](TimeNs t) {
+      return (t == s.t_ns ? s : trajectory_.at(t)).chainage_m + ahead_of_front_;
+    };
     return {s.t_ns, s.p_world + r * arm, s.v_world + r * s.w_body.cross(arm),
-            b.type == track::BlockType::kTunnel && chainage >= b.chainage_begin_m &&
-                chainage <= b.chainage_end_m};
+            visibility_.fix(s.t_ns, antenna_chainage)};
   }
 
   void write(std::int64_t k, AntennaTruth& a) override {
     const positioning::GnssErrors e = errors_.step(static_cast<std::uint64_t>(k));
-    if (!outage_.fix(a.t_ns, a.in_tunnel)) {
+    if (!a.fix) {
       csv_->write(fmt::format("{},0,,,,,,\n", a.t_ns));
       return;
     }
@@ -254,7 +259,7 @@ class GnssSensor final : public SensorOf<AntennaTruth> {
   Mount mount_;
   double ahead_of_front_;
   positioning::GnssErrorModel errors_;
-  positioning::GnssOutage outage_;
+  positioning::GnssVisibility visibility_;
   io::AppendFile* csv_ = nullptr;
 };
 

@@ -2,6 +2,9 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -54,22 +57,26 @@ class GnssErrorModel {
   bool started_ = false;
 };
 
-/// Fix availability: no fix while the antenna is in a tunnel, and none for `reacquisition`
-/// after it leaves one. Carries the time of the last reading inside a tunnel.
-class GnssOutage {
+/// Fix availability along a route: no fix while the antenna is inside a tunnel, and none until
+/// `reacquisition` has passed since the antenna left it. The rule is timed from the exit itself,
+/// not from the last reading inside: the fix at time t is lost iff the antenna, at time
+/// t − reacquisition, had not yet passed the end of the last tunnel behind it. That needs the
+/// antenna's chainage at one earlier time (it never goes backwards), so the rule is a pure
+/// function of the trajectory, exact to the nanosecond at any sample rate, and carries no state.
+class GnssVisibility {
  public:
-  explicit GnssOutage(TimeNs reacquisition) : reacquisition_(reacquisition) {}
+  /// `tunnels`: [begin, end] chainages of the tunnels along the route, in order.
+  GnssVisibility(std::vector<std::pair<double, double>> tunnels, TimeNs reacquisition);
 
-  /// Whether the reading at time t has a fix; `in_tunnel` says where the antenna is then.
-  /// Call in time order.
-  bool fix(TimeNs t, bool in_tunnel);
-
-  TimeNs lastTunnel() const { return last_tunnel_; }  ///< -1 if never in a tunnel
-  void restore(TimeNs last_tunnel) { last_tunnel_ = last_tunnel; }
+  /// Whether the antenna is inside a tunnel at chainage c (ends included).
+  bool inTunnel(double chainage_m) const;
+  /// Whether the reading at time t has a fix; `antenna_chainage(t)` gives where the antenna
+  /// is at any time t (monotone non-decreasing).
+  bool fix(TimeNs t, const std::function<double(TimeNs)>& antenna_chainage) const;
 
  private:
+  std::vector<std::pair<double, double>> tunnels_;
   TimeNs reacquisition_;
-  TimeNs last_tunnel_ = -1;
 };
 
 }  // namespace trainsim::positioning
