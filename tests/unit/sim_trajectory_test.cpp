@@ -188,5 +188,53 @@ TEST(PoseAtAnyTime, ClampsToTheRunAndKeepsIntegerTime) {
   EXPECT_EQ(traj.at(123'456'789).t_ns, 123'456'789);
 }
 
+// trajectory.standstill_start_s / _end_s put the train at rest before departure and after
+// arrival; the run between them is the run without standstills, shifted in time.
+TEST(Standstill, AtRestBeforeAndAfterTheRunWhichIsOnlyShifted) {
+  const scenario::Json route = {{"generator", {{"length_m", 2000}}}};
+  const std::unique_ptr<Plan> plain = planFor({{"route", route}});
+  const std::unique_ptr<Plan> held = planFor(
+      {{"route", route}, {"trajectory", {{"standstill_start_s", 12}, {"standstill_end_s", 7.5}}}});
+  const TrainTrajectory& a = plain->trajectory();
+  const TrainTrajectory& b = held->trajectory();
+  const TimeNs before = 12'000'000'000;
+  EXPECT_EQ(b.sampleCount(), a.sampleCount() + 1950);  // (12 + 7.5) s at 10 ms
+  for (TimeNs t = 0; t <= before; t += 250'000'000) {
+    const TrajectorySample s = b.at(t);
+    ASSERT_EQ(s.p_world, a.at(0).p_world) << t;
+    ASSERT_EQ(s.speed_m_s, 0.0);
+    ASSERT_EQ(s.w_body.norm(), 0.0);
+  }
+  for (TimeNs t = 0; t <= a.endTime(); t += 1'000'000'000)
+    ASSERT_LE((b.at(t + before).p_world - a.at(t).p_world).norm(), 1e-9) << t;
+  for (TimeNs t = a.endTime(); t <= a.endTime() + 7'500'000'000; t += 500'000'000) {
+    const TrajectorySample s = b.at(t + before);
+    ASSERT_LE((s.p_world - a.at(a.endTime()).p_world).norm(), 1e-9) << t;
+    ASSERT_EQ(s.speed_m_s, 0.0);
+  }
+}
+
+TEST(Standstill, AStaticOnlyRunNeverMovesAndNeedsADuration) {
+  const std::unique_ptr<Plan> plan =
+      planFor({{"route", {{"generator", {{"length_m", 2000}}}}},
+               {"trajectory", {{"static_only", true}, {"standstill_start_s", 60}}}});
+  const TrainTrajectory& traj = plan->trajectory();
+  EXPECT_EQ(traj.sampleCount(), 6001);
+  const Eigen::Vector3d p0 = traj.sample(0).p_world;
+  for (std::int64_t k = 0; k < traj.sampleCount(); k += 97) {
+    ASSERT_EQ(traj.sample(k).p_world, p0);
+    ASSERT_EQ(traj.sample(k).v_world.norm(), 0.0);
+  }
+  try {
+    planFor({{"trajectory", {{"static_only", true}}}});
+    FAIL() << "a static run without a standstill was accepted";
+  } catch (const scenario::InvalidScenario& e) {
+    ASSERT_EQ(e.problems().size(), 1u);
+    EXPECT_NE(e.problems()[0].text().find("trajectory.standstill_start_s"), std::string::npos)
+        << e.problems()[0].text();
+    EXPECT_NE(e.problems()[0].text().find("static_only"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace trainsim::sim

@@ -106,6 +106,15 @@ struct ImuConfig {
     const Preset p = trainsim::sim::preset(preset);
     return gyro ? p.gyro : p.accel;
   }
+  // The magnetometer's error terms: none for the ideal preset, which is ideal for every triad.
+  MagnetometerConfig magnetometerErrors() const {
+    if (preset != ImuPreset::kIdeal)
+      return magnetometer;
+    MagnetometerConfig m;
+    m.enabled = magnetometer.enabled;
+    m.noise_density_t_rthz = m.hard_iron_t = m.soft_iron = m.resolution_t = 0.0;
+    return m;
+  }
 };
 
 // The custom error terms of a triad; `u` is its unit in keys ("m_s2", "rad_s").
@@ -175,8 +184,9 @@ const scenario::Binding<ImuConfig>& imuBinding() {
             sensorBasics({"<name>.csv and <name>_truth.csv", 100'000, 1'000'000'000,
                           "Output period (100 Hz by default)", "Pose of the sensor's axes"}));
     b.choice("preset", &ImuConfig::preset,
-             "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal (noise-free), "
-             "or custom (the accelerometer/gyroscope fields below)");
+             "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal (no error on "
+             "any triad, the magnetometer included), or custom (the accelerometer/gyroscope "
+             "fields below)");
     b.boolean("earth_rotation", &ImuConfig::earth_rotation,
               "Rotating WGS-84 Earth (normal gravity at each position, Earth rate); false: flat, "
               "non-rotating Earth with the anchor's gravity");
@@ -216,16 +226,16 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
                toSeconds(period_)),
         gyro_(c.triad(true), RandomStream(setup.context.scenario.seed(), name_ + ".gyro"),
               toSeconds(period_)),
-        mag_(magSpec(c.magnetometer), RandomStream(setup.context.scenario.seed(), name_ + ".mag"),
-             toSeconds(period_)),
+        mag_(magSpec(c.magnetometerErrors()),
+             RandomStream(setup.context.scenario.seed(), name_ + ".mag"), toSeconds(period_)),
         mag_on_(c.magnetometer.enabled),
         t_start_(c.temperature.start_c - c.temperature.reference_c),
         t_rate_(c.temperature.rate_c_s) {
     // Hard and soft iron: per-run draws.
     const RandomStream iron(setup.context.scenario.seed(), name_ + ".mag.iron");
     const auto a = iron.normal4(0), b = iron.normal4(1), c4 = iron.normal4(2);
-    const double hard = c.magnetometer.hard_iron_t;
-    const double soft = c.magnetometer.soft_iron;
+    const double hard = c.magnetometerErrors().hard_iron_t;
+    const double soft = c.magnetometerErrors().soft_iron;
     hard_iron_ = hard * Eigen::Vector3d(a[0], a[1], a[2]);
     soft_iron_ = Eigen::Matrix3d::Identity() +
                  soft * (Eigen::Matrix3d() << a[3], b[0], b[1], b[0], b[2], b[3], b[1], b[3], c4[0])

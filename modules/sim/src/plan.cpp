@@ -172,12 +172,18 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
     throw ConfigError(trainSection().path(scenario::nested(
                           &TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m)) +
                       ": the route is too short for the train");
-  track::MotionProfile motion =
+  const TrajectoryConfig clock = trajectorySection().read(sc.json());
+  const track::MotionProfile run =
       track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_end);
-  return std::make_shared<MotionStage>(MotionStage{
-      key, limits,
-      TrainTrajectory(std::move(route), std::move(motion), vehicle, train.reference_point,
-                      trajectorySection().read(sc.json()).sample_period_ns)});
+  track::MotionProfile motion =
+      clock.static_only
+          ? track::MotionProfile::standstill(
+                u_start, clock.standstill_start_s + clock.standstill_end_s, run.limit())
+          : run.withStandstill(clock.standstill_start_s, clock.standstill_end_s);
+  return std::make_shared<MotionStage>(
+      MotionStage{key, limits,
+                  TrainTrajectory(std::move(route), std::move(motion), vehicle,
+                                  train.reference_point, clock.sample_period_ns)});
 }
 
 }  // namespace

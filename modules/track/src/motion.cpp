@@ -98,6 +98,28 @@ double MotionProfile::duration() const {
   return segments_.empty() ? 0.0 : segments_.back().t0_s + segments_.back().duration_s;
 }
 
+MotionProfile MotionProfile::withStandstill(double before_s, double after_s) const {
+  if (segments_.empty())
+    return *this;
+  std::vector<MotionSegment> out;
+  out.reserve(segments_.size() + 2);
+  if (before_s > 0.0)
+    out.push_back({0.0, segments_.front().u0_m, 0.0, 0.0, 0.0, before_s});
+  for (MotionSegment s : segments_) {
+    s.t0_s += before_s;
+    out.push_back(s);
+  }
+  if (after_s > 0.0) {
+    const double end_t = duration() + before_s;
+    out.push_back({end_t, at(duration()).u_m, 0.0, 0.0, 0.0, after_s});
+  }
+  return MotionProfile(std::move(out), limit_);
+}
+
+MotionProfile MotionProfile::standstill(double u_m, double duration_s, SpeedLimit limit) {
+  return MotionProfile({{0.0, u_m, 0.0, 0.0, 0.0, duration_s}}, std::move(limit));
+}
+
 MotionState MotionProfile::at(double t) const {
   if (segments_.empty())
     return {};

@@ -35,6 +35,27 @@ const scenario::Section<TrajectoryConfig>& trajectorySection() {
         .integer("sample_period_ns", &TrajectoryConfig::sample_period_ns, "ns",
                  "Trajectory sample period T_S; every sensor period is a multiple of it")
         .range(100'000, 1'000'000'000);
+    using T = TrajectoryConfig;
+    const scenario::Unit sec = scenario::units::si("s");
+    constexpr double kWeek = 7 * 86400.0;
+    s.binding
+        .number("standstill_start_s", &T::standstill_start_s, sec,
+                "The train stands at the start of the route this long before it departs (IMU "
+                "alignment; hours for calibration and Allan-variance data)")
+        .range(0, kWeek);
+    s.binding
+        .number("standstill_end_s", &T::standstill_end_s, sec,
+                "The train stands this long where it stops at the end of the run")
+        .range(0, kWeek);
+    s.binding.boolean("static_only", &T::static_only,
+                      "No run at all: the train stands at the start of the route for "
+                      "standstill_start_s + standstill_end_s (static calibration data)");
+    s.binding.check([](const T& t, const scenario::FieldPaths<T>& at,
+                       std::vector<scenario::Problem>& out) {
+      if (t.static_only && !(t.standstill_start_s + t.standstill_end_s > 0.0))
+        out.push_back({at(t.standstill_start_s), "must be above 0 when " + at.key(t.static_only) +
+                                                     " is true (the standstill is the run)"});
+    });
     return s;
   }();
   return section;

@@ -54,6 +54,9 @@ struct TrainConfig {
 /// `trajectory`: the movement system's clock.
 struct TrajectoryConfig {
   TimeNs sample_period_ns = 10'000'000;  ///< T_S
+  double standstill_start_s = 0.0;       ///< at rest before departure
+  double standstill_end_s = 0.0;         ///< at rest after arrival
+  bool static_only = false;              ///< no run: at rest for the two standstills only
 };
 
 /// `dataset`: the KITTI sequence and the frame clock of the visual sensors.

@@ -67,6 +67,12 @@ class MotionProfile {
   double duration() const;
   MotionState at(double t_s) const;
 
+  /// The same run with the train at rest for `before_s` at its start position before it
+  /// departs and for `after_s` where it ends after it arrives (IMU alignment, calibration).
+  MotionProfile withStandstill(double before_s, double after_s) const;
+  /// A train that stands at `u_m` for `duration_s` and never moves (static calibration data).
+  static MotionProfile standstill(double u_m, double duration_s, SpeedLimit limit);
+
  private:
   std::vector<MotionSegment> segments_;
   SpeedLimit limit_;
