@@ -102,9 +102,7 @@ void runPlan(const CommonOptions& args, const std::string& out) {
   }
   const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
   io::writeFileAtomic(std::filesystem::path(out) / io::DatasetLayout::kScenario, scenario.text());
-  sim::writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
-    io::writeFileAtomic(std::filesystem::path(out) / name, bytes);
-  });
+  sim::writePlan(*plan, out);
   logWarn("plan: terrain and objects are not built yet; wrote the route, layout and trajectory");
   logInfo(
       fmt::format("wrote {0}/scenario.json, {0}/railroad.json, {0}/trajectory.csv and "

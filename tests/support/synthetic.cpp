@@ -91,6 +91,14 @@ std::uint64_t BusySensor::read(std::int64_t k) const {
   int peak = gauge_->peak.load();
   while (now > peak && !gauge_->peak.compare_exchange_weak(peak, now)) {
   }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (gauge_->peak.load() < gauge_->rendezvous && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    const int running = gauge_->running.load();
+    peak = gauge_->peak.load();
+    while (running > peak && !gauge_->peak.compare_exchange_weak(peak, running)) {
+    }
+  }
   std::uint64_t digest = 0;
   for (std::int64_t i = 0; i < work_; ++i)
     digest ^= stream_.bits(static_cast<std::uint64_t>(k), static_cast<std::uint64_t>(i))[0];

@@ -79,6 +79,9 @@ class BusySensor final : public sim::SensorOf<std::uint64_t> {
   struct Gauge {
     std::atomic<int> running{0};
     std::atomic<int> peak{0};  ///< the largest number of render() calls running at once
+    /// If set, a render() waits (up to 5 s) until this many run at once, so that a loaded
+    /// machine's scheduler cannot make a pool of N threads look smaller than N.
+    int rendezvous = 0;
   };
 
   BusySensor(std::string name, TimeNs period, std::uint64_t seed, std::int64_t work,

@@ -53,6 +53,28 @@ TEST_F(AtomicWrite, FailureNamesTheFileAndLeavesNothing) {
   EXPECT_EQ(countTemporaries(), 0u);
 }
 
+// A streamed file larger than its buffer: until commit() the old file stays whole; a stream
+// abandoned part-way (an exception) leaves the old file and no temporary.
+TEST_F(AtomicWrite, StreamedFileAppearsWholeOnCommitAndNotAtAllWhenAbandoned) {
+  writeFileAtomic(root_ / "big.csv", "old\n");
+  const std::string line(1000, 'x');
+  {
+    AtomicFile f(root_ / "big.csv");
+    for (int i = 0; i < 3000; ++i)  // 3 MB: several buffer flushes
+      f.write(line);
+    EXPECT_EQ(readFile(root_ / "big.csv"), "old\n");
+    EXPECT_EQ(countTemporaries(), 1u);
+  }  // abandoned
+  EXPECT_EQ(readFile(root_ / "big.csv"), "old\n");
+  EXPECT_EQ(countTemporaries(), 0u);
+  AtomicFile f(root_ / "big.csv");
+  for (int i = 0; i < 3000; ++i)
+    f.write(line);
+  f.commit();
+  EXPECT_EQ(readFile(root_ / "big.csv").size(), 3'000'000u);
+  EXPECT_EQ(countTemporaries(), 0u);
+}
+
 TEST_F(AtomicWrite, AppendFileFlushesAndTruncates) {
   AppendFile f(root_ / "log.csv");
   f.write("a,b\n");

@@ -41,6 +41,7 @@ TEST(RunLoop, RendersOnExactlyTheRequestedNumberOfThreadsWithIdenticalBytes) {
   std::string reference;
   for (int threads : {1, 2, 4}) {
     auto gauge = std::make_shared<testing::BusySensor::Gauge>();
+    gauge->rendezvous = threads;
     std::vector<std::unique_ptr<Sensor>> sensors;
     // Several milliseconds of work a frame, so every worker gets frames to render.
     sensors.push_back(

@@ -35,32 +35,55 @@ bool isAtomicTemporary(const fs::path& path) {
   return !name.empty() && name.front() == '.' && name.find(kTempMarker) != std::string::npos;
 }
 
-void writeFileAtomic(const fs::path& path, std::string_view bytes, bool sync) {
-  const fs::path temp =
-      path.parent_path() /
-      ("." + path.filename().string() + std::string(kTempMarker) + std::to_string(::getpid()));
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    throw IoError(systemErrorMessage("cannot create", path.string(), errno));
+AtomicFile::AtomicFile(fs::path path)
+    : path_(std::move(path)),
+      temp_(path_.parent_path() / ("." + path_.filename().string() + std::string(kTempMarker) +
+                                   std::to_string(::getpid()))) {
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0)
+    throw IoError(systemErrorMessage("cannot create", path_.string(), errno));
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ >= 0) {  // not committed
+    ::close(fd_);
+    ::unlink(temp_.c_str());
   }
-  try {
-    writeAll(fd, bytes, path);
-    if (sync && ::fsync(fd) != 0) {
-      throw IoError(systemErrorMessage("cannot write", path.string(), errno));
-    }
-    if (::close(fd) != 0) {
-      throw IoError(systemErrorMessage("cannot write", path.string(), errno));
-    }
-  } catch (...) {
-    ::close(fd);  // harmless EBADF if already closed
-    ::unlink(temp.c_str());
-    throw;
-  }
-  if (::rename(temp.c_str(), path.c_str()) != 0) {
+}
+
+void AtomicFile::write(std::string_view bytes) {
+  buffer_.append(bytes);
+  if (buffer_.size() >= (1u << 20))
+    flush();
+}
+
+void AtomicFile::flush() {
+  writeAll(fd_, buffer_, path_);
+  buffer_.clear();
+}
+
+void AtomicFile::commit(bool sync) {
+  flush();
+  if (sync && ::fsync(fd_) != 0)
+    throw IoError(systemErrorMessage("cannot write", path_.string(), errno));
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(temp.c_str());
-    throw IoError(systemErrorMessage("cannot write", path.string(), err));
+    ::unlink(temp_.c_str());
+    throw IoError(systemErrorMessage("cannot write", path_.string(), err));
   }
+  if (::rename(temp_.c_str(), path_.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(temp_.c_str());
+    throw IoError(systemErrorMessage("cannot write", path_.string(), err));
+  }
+}
+
+void writeFileAtomic(const fs::path& path, std::string_view bytes, bool sync) {
+  AtomicFile file(path);
+  file.write(bytes);
+  file.commit(sync);
 }
 
 std::string readFile(const fs::path& path) {

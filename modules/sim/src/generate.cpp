@@ -83,11 +83,7 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
       makeSensorContext(scenario, plan->trajectory(), &plan->route().route, &plan->layout());
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
   return runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
-                    [&](io::DatasetWriter& writer) {
-                      writePlan(*plan, [&](const std::string& name, const std::string& bytes) {
-                        writer.writeFile(name, bytes);
-                      });
-                    });
+                    [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });
 }
 
 }  // namespace trainsim::sim

@@ -13,6 +13,7 @@
 #include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/io/dataset_layout.hpp"
+#include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/schema.hpp"
 
@@ -243,33 +244,9 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
   return std::make_unique<Plan>(planner.plan(scenario));
 }
 
-std::string railroadJson(const Plan& plan) {
-  nlohmann::json tracks = nlohmann::json::array();
-  for (const track::LayoutTrack& t : plan.layout().tracks) {
-    nlohmann::json blocks = nlohmann::json::array();
-    for (const track::LayoutBlock& b : t.blocks) {
-      nlohmann::json jb = {{"type", nameOf(b.type)}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
-      if (b.part != track::TrackPart::kWhole)
-        jb["part"] = nameOf(b.part);
-      if (b.main_block_id >= 0)
-        jb["main_block_id"] = b.main_block_id;
-      blocks.push_back(std::move(jb));
-    }
-    nlohmann::json polyline = nlohmann::json::array();
-    for (const Eigen::Vector3d& p : t.polyline)
-      polyline.push_back({std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6,
-                          std::round(p.z() * 1e6) / 1e6});
-    nlohmann::json jt = {{"id", t.id},
-                         {"kind", nameOf(t.kind)},
-                         {"offset_m", t.offset_m},
-                         {"main_chainage_begin_m", t.main_chainage_begin_m},
-                         {"main_chainage_end_m", t.main_chainage_end_m},
-                         {"blocks", blocks},
-                         {"polyline_m", polyline}};
-    if (t.joins_track >= 0)
-      jt["joins_track"] = t.joins_track;
-    tracks.push_back(std::move(jt));
-  }
+void writeRailroadJson(const Plan& plan, const TextSink& sink) {
+  // Streamed: the small parts through nlohmann::json, each polyline point by point, so no
+  // document of the whole layout is ever held in memory.
   nlohmann::json main_blocks = nlohmann::json::array();
   for (const track::Block& b : plan.route().route.blocks) {
     main_blocks.push_back({{"id", b.id},
@@ -281,12 +258,58 @@ std::string railroadJson(const Plan& plan) {
                            {"cant_m", b.cant_m},
                            {"stop", b.stop}});
   }
-  const nlohmann::json doc = {
+  const nlohmann::json head = {
       {"format", "trainsim-railroad"},
       {"frame", "world ENU at geodetic_origin, metres; z is height relative to the origin"},
-      {"main_track", {{"length_m", plan.route().route.track.length()}, {"blocks", main_blocks}}},
-      {"tracks", tracks}};
-  return doc.dump(1) + "\n";
+      {"main_track", {{"length_m", plan.route().route.track.length()}, {"blocks", main_blocks}}}};
+  std::string text = head.dump(1);
+  text.pop_back();  // the closing brace: the tracks follow
+  text += ",\n \"tracks\": [";
+  sink(text);
+  const auto& tracks = plan.layout().tracks;
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const track::LayoutTrack& t = tracks[i];
+    nlohmann::json blocks = nlohmann::json::array();
+    for (const track::LayoutBlock& b : t.blocks) {
+      nlohmann::json jb = {{"type", nameOf(b.type)}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
+      if (b.part != track::TrackPart::kWhole)
+        jb["part"] = nameOf(b.part);
+      if (b.main_block_id >= 0)
+        jb["main_block_id"] = b.main_block_id;
+      blocks.push_back(std::move(jb));
+    }
+    nlohmann::json jt = {{"id", t.id},
+                         {"kind", nameOf(t.kind)},
+                         {"offset_m", t.offset_m},
+                         {"main_chainage_begin_m", t.main_chainage_begin_m},
+                         {"main_chainage_end_m", t.main_chainage_end_m},
+                         {"blocks", blocks}};
+    if (t.joins_track >= 0)
+      jt["joins_track"] = t.joins_track;
+    text = jt.dump();
+    text.pop_back();
+    sink(fmt::format("{}\n  {},\"polyline_m\":[", i == 0 ? "" : ",", text));
+    fmt::memory_buffer points;
+    for (std::size_t k = 0; k < t.polyline.size(); ++k) {
+      const Eigen::Vector3d& p = t.polyline[k];
+      fmt::format_to(std::back_inserter(points), "{}\n   [{},{},{}]", k == 0 ? "" : ",",
+                     std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6,
+                     std::round(p.z() * 1e6) / 1e6);
+      if (points.size() > (1u << 16)) {
+        sink({points.data(), points.size()});
+        points.clear();
+      }
+    }
+    sink({points.data(), points.size()});
+    sink("]}");
+  }
+  sink("\n ]\n}\n");
+}
+
+std::string railroadJson(const Plan& plan) {
+  std::string out;
+  writeRailroadJson(plan, [&](std::string_view text) { out.append(text); });
+  return out;
 }
 
 std::string designReportJson(const Plan& plan) {
@@ -315,12 +338,11 @@ std::string designReportJson(const Plan& plan) {
   return doc.dump(2) + "\n";
 }
 
-std::string trajectoryCsv(const Plan& plan) {
+void writeTrajectoryCsv(const Plan& plan, const TextSink& sink) {
   const TrainTrajectory& traj = plan.trajectory();
   const track::Route& route = plan.route().route;
-  // Formatted straight into the result (no second copy): ~390 bytes per row.
-  std::string out;
-  out.reserve(static_cast<std::size_t>(traj.sampleCount()) * 400 + 1024);
+  // Formatted in pieces of about 64 KiB and handed on: memory does not grow with the route.
+  fmt::memory_buffer out;
   fmt::format_to(std::back_inserter(out),
                  "t_ns,chainage_m,distance_m,speed_m_s,accel_m_s2,jerk_m_s3,speed_limit_m_s,"
                  "front_x_m,front_y_m,front_z_m,rear_x_m,rear_y_m,rear_z_m,x_m,y_m,z_m,"
@@ -351,15 +373,29 @@ std::string trajectoryCsv(const Plan& plan) {
                    ab.x(), ab.y(), ab.z(), b.w_body.x(), b.w_body.y(), b.w_body.z(),
                    b.alpha_body.x(), b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
                    route.blockAt(f.chainage_m).id);
+    if (out.size() > (1u << 16)) {
+      sink({out.data(), out.size()});
+      out.clear();
+    }
   }
+  sink({out.data(), out.size()});
+}
+
+std::string trajectoryCsv(const Plan& plan) {
+  std::string out;
+  writeTrajectoryCsv(plan, [&](std::string_view text) { out.append(text); });
   return out;
 }
 
-void writePlan(const Plan& plan,
-               const std::function<void(const std::string&, const std::string&)>& write) {
-  write(io::DatasetLayout::kRailroad, railroadJson(plan));
-  write(io::DatasetLayout::kDesignReport, designReportJson(plan));
-  write(io::DatasetLayout::kTrajectory, trajectoryCsv(plan));
+void writePlan(const Plan& plan, const std::filesystem::path& folder) {
+  const auto stream = [&](const char* name, void (*write)(const Plan&, const TextSink&)) {
+    io::AtomicFile file(folder / name);
+    write(plan, [&](std::string_view text) { file.write(text); });
+    file.commit();
+  };
+  stream(io::DatasetLayout::kRailroad, &writeRailroadJson);
+  io::writeFileAtomic(folder / io::DatasetLayout::kDesignReport, designReportJson(plan));
+  stream(io::DatasetLayout::kTrajectory, &writeTrajectoryCsv);
 }
 
 scenario::Json blockListJson(const track::Route& route) {

@@ -13,6 +13,31 @@ namespace trainsim::io {
 /// folder, disk full, ...); the temporary file is removed on failure.
 void writeFileAtomic(const std::filesystem::path& path, std::string_view bytes, bool sync = false);
 
+/// A file written atomically in pieces, for outputs too large to hold in memory (a 1000 km
+/// trajectory.csv): write() goes through a buffer into a hidden temporary file in the same
+/// folder, commit() renames it over `path`. Destroyed without commit() (an exception, a
+/// cancelled plan), it removes the temporary file, so `path` is the old file or the whole new
+/// one, never a part. Throws IoError naming `path` and the system's reason.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  void write(std::string_view bytes);
+  /// Flushes, optionally fsyncs, closes and renames the file into place.
+  void commit(bool sync = false);
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  void flush();
+  std::filesystem::path path_;
+  std::filesystem::path temp_;
+  int fd_ = -1;
+  std::string buffer_;
+};
+
 /// Reads a whole file; throws IoError naming it on failure.
 std::string readFile(const std::filesystem::path& path);
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -131,17 +132,23 @@ class Planner {
 /// Builds route, layout, motion and trajectory from a resolved scenario (a fresh Planner).
 std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario);
 
+/// Receives a large output piece by piece (an io::AtomicFile, or a string in tests).
+using TextSink = std::function<void(std::string_view)>;
+
+/// railroad.json: the main track's blocks and every layout track with its polyline.
+void writeRailroadJson(const Plan& plan, const TextSink& sink);
 std::string railroadJson(const Plan& plan);
 std::string designReportJson(const Plan& plan);
 /// trajectory.csv: one row per sample, `t_ns` first, every column named with its unit.
+void writeTrajectoryCsv(const Plan& plan, const TextSink& sink);
 std::string trajectoryCsv(const Plan& plan);
 
 /// route.blocks items that lay out `route` again (route.source = "blocks"): the studio's
 /// "edit as blocks" of a generated or imported route. Grades become each block's mean grade.
 scenario::Json blockListJson(const track::Route& route);
 
-/// Writes railroad.json, trajectory.csv and design_report.json through `write(name, bytes)`.
-void writePlan(const Plan& plan,
-               const std::function<void(const std::string&, const std::string&)>& write);
+/// Writes railroad.json, trajectory.csv and design_report.json into `folder`, each atomically
+/// and streamed (io::AtomicFile), so memory does not grow with the route.
+void writePlan(const Plan& plan, const std::filesystem::path& folder);
 
 }  // namespace trainsim::sim
