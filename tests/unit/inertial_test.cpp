@@ -60,7 +60,7 @@ TEST(Inertial, SteadyCurveLateralAndNormalSpecificForce) {
                 VerticalProfile(801, 0.0), CantProfile({{800, d, d, RampShape::kLinear}}));
   // Pivots 1 mm apart: the body axes are the track-plane axes at the point (the chord of a
   // real bogie spacing turns them by L/2R, which is not what this check is about).
-  const BodyState b = bodyState(t, {1e-3}, {400, v, 0, 0});
+  const BodyState b = bodyState(t, {1e-3, 0.0}, {400, v, 0, 0});
   const Earth earth({45.0, 0.0, 0.0}, false);
   const double g = -earth.gravity({0, 0, 0}).z();
   // The front pivot, on the centreline, in the body's axes.

@@ -78,7 +78,6 @@ TEST(Kinematics, RollRateInLinearCantRamp) {
                                {300, D, D, RampShape::kLinear}}),
                   rot);
     for (double u = 140; u < 250; u += 13) {
-      const BodyState b = bodyState(t, {17.5}, cruise(u));
       // φ_i = asin(D(s_i)/b), D(s) = D (s − 100)/L on the ramp: φ̇_i = (D/L) v / sqrt(b² − D_i²).
       auto rate = [&](double s) {
         if (s < 100 || s > 100 + L)
@@ -86,10 +85,18 @@ TEST(Kinematics, RollRateInLinearCantRamp) {
         const double d = D * (s - 100) / L;
         return D / L * kV / std::sqrt(1.5 * 1.5 - d * d);
       };
-      EXPECT_NEAR(b.euler_rate.x(), 0.5 * (rate(u) + rate(u - 17.5)), 1e-12);
-      // Level track without lift: the body-axis roll rate is the Euler roll rate.
-      if (rot == CantRotation::kCentre) {
-        EXPECT_NEAR(b.w_body.x(), 0.5 * (rate(u) + rate(u - 17.5)), 1e-12);
+      // Wheelbase 0: the mean of the two pivots; 2.5 m: the mean of the four wheelsets.
+      for (const double w : {0.0, 2.5}) {
+        const BodyState b = bodyState(t, {17.5, w}, cruise(u));
+        const double h = w / 2;
+        const double expected =
+            w == 0.0 ? 0.5 * (rate(u) + rate(u - 17.5))
+                     : 0.25 * (rate(u - h) + rate(u + h) + rate(u - 17.5 - h) + rate(u - 17.5 + h));
+        EXPECT_NEAR(b.euler_rate.x(), expected, 1e-12) << "wheelbase " << w << ", u " << u;
+        // Level track without lift: the body-axis roll rate is the Euler roll rate.
+        if (rot == CantRotation::kCentre) {
+          EXPECT_NEAR(b.w_body.x(), expected, 1e-12);
+        }
       }
     }
   }

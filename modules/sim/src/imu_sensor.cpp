@@ -77,6 +77,15 @@ Preset preset(ImuPreset name) {
   return {};
 }
 
+// What a row of imu.csv holds: the mean over the period that ends at its time (what an IMU's
+// anti-alias filter and decimation deliver; integrates exactly), or the value at that instant.
+enum class ImuSampling { kIntervalMean, kInstantaneous };
+constexpr EnumName<ImuSampling> kImuSamplingNames[] = {
+    {ImuSampling::kIntervalMean, "interval_mean"}, {ImuSampling::kInstantaneous, "instantaneous"}};
+constexpr std::span<const EnumName<ImuSampling>> enumNames(ImuSampling) {
+  return kImuSamplingNames;
+}
+
 struct MagnetometerConfig {
   bool enabled = true;
   double noise_density_t_rthz = 1e-8;
@@ -95,6 +104,8 @@ struct TemperatureConfig {
 struct ImuConfig {
   SensorBasics basics{"imu", 10'000'000, {}};
   ImuPreset preset = ImuPreset::kIndustrial;
+  ImuSampling sampling = ImuSampling::kIntervalMean;
+  bool increments = false;
   bool earth_rotation = true;
   inertial::TriadSpec accelerometer, gyroscope;  // preset "custom"
   MagnetometerConfig magnetometer;
@@ -187,6 +198,15 @@ const scenario::Binding<ImuConfig>& imuBinding() {
              "Error model: a datasheet class (ADIS16465, BMI088, STIM300), ideal (no error on "
              "any triad, the magnetometer included), or custom (the accelerometer/gyroscope "
              "fields below)");
+    b.choice("sampling", &ImuConfig::sampling,
+             "What a row holds: interval_mean, the mean specific force, rate and field over the "
+             "period ending at t_ns (an IMU's anti-alias filter and decimation; integrates back "
+             "to the trajectory); instantaneous, the values at t_ns (a step in a rate between "
+             "samples is then lost to an integrator)");
+    b.boolean("increments", &ImuConfig::increments,
+              "Also write the velocity and angle increments over each period (dv_*, dtheta_*: "
+              "exact, with their coning and sculling parts, resolved in the sensor axes at the "
+              "period's start; the error chain adds the period times the mean's error)");
     b.boolean("earth_rotation", &ImuConfig::earth_rotation,
               "Rotating WGS-84 Earth (normal gravity at each position, Earth rate); false: flat, "
               "non-rotating Earth with the anchor's gravity");
@@ -203,11 +223,23 @@ const scenario::Binding<ImuConfig>& imuBinding() {
   return binding;
 }
 
-// What render() computes for one reading: the truth at the sensor (pure in the trajectory).
+// What render() computes for one reading: the truth at the sensor (pure in the trajectory),
+// as a mean over the period or at the instant, and the increments over the period.
 struct ImuTruthReading {
   TimeNs t_ns = 0;
   inertial::ImuTruth truth;
   Eigen::Vector3d field = Eigen::Vector3d::Zero();  // sensor axes, before hard and soft iron
+  Eigen::Vector3d dv = Eigen::Vector3d::Zero();     // sensor axes at the period's start
+  Eigen::Vector3d dtheta = Eigen::Vector3d::Zero();
+};
+
+// The truth at one instant, with the sensor's attitude and velocity in the world frame.
+struct ImuInstant {
+  inertial::ImuTruth truth;
+  Eigen::Vector3d field;
+  Eigen::Quaterniond q_world_sensor;
+  Eigen::Vector3d v_world;
+  Eigen::Vector3d a_world;
 };
 
 class ImuSensor final : public SensorOf<ImuTruthReading> {
@@ -229,6 +261,8 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
         mag_(magSpec(c.magnetometerErrors()),
              RandomStream(setup.context.scenario.seed(), name_ + ".mag"), toSeconds(period_)),
         mag_on_(c.magnetometer.enabled),
+        sampling_(c.sampling),
+        increments_(c.increments),
         t_start_(c.temperature.start_c - c.temperature.reference_c),
         t_rate_(c.temperature.rate_c_s) {
     // Hard and soft iron: per-run draws.
@@ -259,10 +293,14 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
     csv_ = &writer.appendFile(writer.layout().inSequence(files[0]));
     truth_ = &writer.appendFile(writer.layout().inSequence(files[1]));
     if (state.is_null()) {
-      csv_->write("t_ns,ax_m_s2,ay_m_s2,az_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,mx_T,my_T,mz_T\n");
+      const std::string inc =
+          increments_ ? ",dv_x_m_s,dv_y_m_s,dv_z_m_s,dtheta_x_rad,dtheta_y_rad,dtheta_z_rad" : "";
+      csv_->write("t_ns,ax_m_s2,ay_m_s2,az_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,mx_T,my_T,mz_T" + inc +
+                  "\n");
       truth_->write(
           "t_ns,fx_m_s2,fy_m_s2,fz_m_s2,wx_rad_s,wy_rad_s,wz_rad_s,mx_T,my_T,mz_T,"
-          "bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,bias_wx_rad_s,bias_wy_rad_s,bias_wz_rad_s\n");
+          "bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,bias_wx_rad_s,bias_wy_rad_s,bias_wz_rad_s" +
+          inc + "\n");
     } else {
       accel_.restore(state.at("accel"));
       gyro_.restore(state.at("gyro"));
@@ -275,8 +313,8 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
   }
 
  private:
-  ImuTruthReading read(std::int64_t k) const override {
-    const TrajectorySample s = trajectory_.sample(k);
+  ImuInstant instant(TimeNs t) const {
+    const TrajectorySample s = trajectory_.at(t);
     const Eigen::Vector3d& r = mount_.position_m;
     const Eigen::Matrix3d r_wb = s.q_world_body.toRotationMatrix();
     inertial::MountKinematics m;
@@ -285,10 +323,73 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
     m.a_world = s.a_world + r_wb * (s.alpha_body.cross(r) + s.w_body.cross(s.w_body.cross(r)));
     m.r_world_sensor = r_wb * mount_.r_body_sensor;
     m.w_sensor = mount_.r_body_sensor.transpose() * s.w_body;
+    return {inertial::imuTruth(earth_, m, gravity_.local().at(m.p_world)),
+            m.r_world_sensor.transpose() * field_model_.at(m.p_world),
+            Eigen::Quaterniond(m.r_world_sensor), m.v_world, m.a_world};
+  }
+
+  // The inertial attitude at t relative to the world frame at t = 0: the world turns with the
+  // Earth, R_inertial_sensor(t) = exp(Ω t) R_world_sensor(t).
+  Eigen::Quaterniond earthTurn(double seconds) const {
+    const double rate = earth_.rate().norm();
+    if (rate == 0.0)
+      return Eigen::Quaterniond::Identity();
+    return Eigen::Quaterniond(Eigen::AngleAxisd(rate * seconds, earth_.rate() / rate));
+  }
+
+  ImuTruthReading read(std::int64_t k) const override {
     ImuTruthReading out;
-    out.t_ns = s.t_ns;
-    out.truth = inertial::imuTruth(earth_, m, gravity_.local().at(m.p_world));
-    out.field = m.r_world_sensor.transpose() * field_model_.at(m.p_world);
+    out.t_ns = k * trajectory_.samplePeriod();
+    const TimeNs t0 = out.t_ns - period_;
+    if (sampling_ == ImuSampling::kInstantaneous) {
+      const ImuInstant now = instant(out.t_ns);
+      out.truth = now.truth;
+      out.field = now.field;
+    }
+    if (sampling_ == ImuSampling::kInstantaneous && !increments_)
+      return out;
+    // Quadrature over (t0, t1]: means, and Δv = ∫ R_is(t0)ᵀ R_is(t) f dt in the sensor axes
+    // at t0. Before t = 0 the train stands where it starts (Trajectory::at clamps).
+    const Eigen::Quaterniond q0 =
+        increments_ ? instant(t0).q_world_sensor.conjugate() : Eigen::Quaterniond::Identity();
+    inertial::ImuTruth sum;
+    Eigen::Vector3d field = Eigen::Vector3d::Zero();
+    intervalNodes(
+        trajectory_, t0, out.t_ns,
+        [&](TimeNs t, double w) {
+          const ImuInstant at = instant(t);
+          sum.specific_force += w * at.truth.specific_force;
+          sum.angular_rate += w * at.truth.angular_rate;
+          field += w * at.field;
+          if (increments_)
+            out.dv += w * (q0 * earthTurn(toSeconds(t - t0)) * at.q_world_sensor *
+                           at.truth.specific_force);
+        },
+        [&](TimeNs t) {
+          // Where the roll rate steps (ends of linear cant ramps) a sensor off the roll axis
+          // steps in velocity: an impulse of specific force, which the mean must carry.
+          const ImuInstant before = instant(t - 1), after = instant(t + 1);
+          const Eigen::Vector3d jump =
+              after.v_world - before.v_world - 1e-9 * (after.a_world + before.a_world);
+          if (jump.squaredNorm() == 0.0)
+            return;
+          sum.specific_force += after.q_world_sensor.conjugate() * jump;
+          if (increments_)
+            out.dv += q0 * earthTurn(toSeconds(t - t0)) * jump;
+        });
+    const double period_s = toSeconds(period_);
+    if (sampling_ == ImuSampling::kIntervalMean) {
+      out.truth.specific_force = sum.specific_force / period_s;
+      out.truth.angular_rate = sum.angular_rate / period_s;
+      out.field = field / period_s;
+    }
+    if (increments_) {
+      // Δθ: the rotation vector of R_is(t0)ᵀ R_is(t1), exact (coning included).
+      const Eigen::Quaterniond q =
+          (q0 * earthTurn(period_s) * instant(out.t_ns).q_world_sensor).normalized();
+      const Eigen::AngleAxisd aa(q.w() < 0 ? Eigen::Quaterniond(-q.coeffs()) : q);
+      out.dtheta = aa.angle() * aa.axis();
+    }
     return out;
   }
 
@@ -304,17 +405,30 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
     Eigen::Vector3d mag = Eigen::Vector3d::Zero();
     if (mag_on_)
       mag = mag_.measure(index, soft_iron_ * (r.field + hard_iron_));
-    csv_->write(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
-                            r.t_ns, a.x(), a.y(), a.z(), w.x(), w.y(), w.z(), mag.x(), mag.y(),
-                            mag.z()));
+    std::string row =
+        fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", r.t_ns,
+                    a.x(), a.y(), a.z(), w.x(), w.y(), w.z(), mag.x(), mag.y(), mag.z());
     const Eigen::Vector3d ba = accel_.bias(), bg = gyro_.bias();
     const Eigen::Vector3d& field = r.field;
-    truth_->write(fmt::format(
+    std::string truth_row = fmt::format(
         "{},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},"
-        "{:.9g},{:.9g},{:.9g},{:.9g}\n",
+        "{:.9g},{:.9g},{:.9g},{:.9g}",
         r.t_ns, truth.specific_force.x(), truth.specific_force.y(), truth.specific_force.z(),
         truth.angular_rate.x(), truth.angular_rate.y(), truth.angular_rate.z(), field.x(),
-        field.y(), field.z(), ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z()));
+        field.y(), field.z(), ba.x(), ba.y(), ba.z(), bg.x(), bg.y(), bg.z());
+    if (increments_) {
+      // The increments carry the same error as the means, over the period.
+      const double period_s = toSeconds(period_);
+      const Eigen::Vector3d dv = r.dv + period_s * (a - truth.specific_force);
+      const Eigen::Vector3d dth = r.dtheta + period_s * (w - truth.angular_rate);
+      fmt::format_to(std::back_inserter(row), ",{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}",
+                     dv.x(), dv.y(), dv.z(), dth.x(), dth.y(), dth.z());
+      fmt::format_to(std::back_inserter(truth_row),
+                     ",{:.12g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}", r.dv.x(), r.dv.y(),
+                     r.dv.z(), r.dtheta.x(), r.dtheta.y(), r.dtheta.z());
+    }
+    csv_->write(row + "\n");
+    truth_->write(truth_row + "\n");
   }
 
   const Trajectory& trajectory_;
@@ -327,6 +441,8 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
   inertial::DipoleField field_model_;
   inertial::TriadErrorModel accel_, gyro_, mag_;
   bool mag_on_;
+  ImuSampling sampling_;
+  bool increments_;
   Eigen::Vector3d hard_iron_;
   Eigen::Matrix3d soft_iron_;
   double t_start_ = 0.0, t_rate_ = 0.0;

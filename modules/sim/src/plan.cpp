@@ -28,7 +28,39 @@ TrainTrajectory::TrainTrajectory(std::shared_ptr<const RouteStage> route,
       reference_(std::move(reference_point)),
       period_(period),
       // Up to the first sample at or after the end of the run, where the train is at rest.
-      count_(static_cast<std::int64_t>(std::ceil(motion_.duration() / toSeconds(period))) + 1) {}
+      count_(static_cast<std::int64_t>(std::ceil(motion_.duration() / toSeconds(period))) + 1),
+      track_breaks_(route_->route.route.track.breakpointDistances()) {}
+
+std::vector<TimeNs> TrainTrajectory::breakpoints(TimeNs t0, TimeNs t1) const {
+  t0 = std::clamp<TimeNs>(t0, 0, endTime());
+  t1 = std::clamp<TimeNs>(t1, 0, endTime());
+  std::vector<TimeNs> out;
+  if (t1 <= t0)
+    return out;
+  const auto add = [&](double t_s) {
+    const TimeNs t = fromSeconds(t_s);
+    if (t > t0 && t < t1)
+      out.push_back(t);
+  };
+  const auto& segments = motion_.segments();
+  for (auto it =
+           std::lower_bound(segments.begin(), segments.end(), toSeconds(t0) - 1e-6,
+                            [](const track::MotionSegment&s, double t) { return s.t0_s < t; });
+       it != segments.end() && it->t0_s < toSeconds(t1) + 1e-6; ++it)
+    add(it->t0_s);
+  // Distances where either pivot meets a track breakpoint; the front pivot is at u.
+  const double u0 = motionAt(t0).u_m, u1 = motionAt(t1).u_m;
+  // Pivots (position), and wheelsets (roll), behind the front pivot.
+  const double L = vehicle_.bogie_spacing_m, h = vehicle_.wheelbase_m / 2.0;
+  for (const double offset : {0.0, L, -h, h, L - h, L + h}) {
+    auto it = std::upper_bound(track_breaks_.begin(), track_breaks_.end(), u0 - offset);
+    for (; it != track_breaks_.end() && *it + offset < u1; ++it)
+      add(motion_.timeAtDistance(*it + offset));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
 
 track::MotionState TrainTrajectory::motion(std::int64_t k) const {
   return motionAt(k * period_);
@@ -167,8 +199,9 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
   const track::VehicleGeometry& vehicle = train.vehicle;
   const track::Route& r = route->route.route;
   const double u_length = r.track.distanceLength();
-  const double u_start = vehicle.bogie_spacing_m;
-  const double u_end = u_length - 1.0;
+  // Every wheelset on the track: the rear one at the start, the front one 1 m before the end.
+  const double u_start = vehicle.bogie_spacing_m + vehicle.wheelbase_m / 2.0;
+  const double u_end = u_length - 1.0 - vehicle.wheelbase_m / 2.0;
   if (u_end <= u_start + 1.0)
     throw ConfigError(trainSection().path(scenario::nested(
                           &TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m)) +

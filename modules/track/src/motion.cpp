@@ -120,6 +120,27 @@ MotionProfile MotionProfile::standstill(double u_m, double duration_s, SpeedLimi
   return MotionProfile({{0.0, u_m, 0.0, 0.0, 0.0, duration_s}}, std::move(limit));
 }
 
+double MotionProfile::timeAtDistance(double u) const {
+  if (segments_.empty() || u <= segments_.front().u0_m)
+    return 0.0;
+  const auto end_u = [](const MotionSegment& s) {
+    const double d = s.duration_s;
+    return s.u0_m + s.v0_m_s * d + s.a0_m_s2 * d * d / 2.0 + s.jerk_m_s3 * d * d * d / 6.0;
+  };
+  const auto it = std::find_if(segments_.begin(), segments_.end(),
+                               [&](const MotionSegment& s) { return end_u(s) >= u; });
+  if (it == segments_.end())
+    return duration();
+  double lo = 0.0, hi = it->duration_s;
+  while (hi - lo > 1e-12) {
+    const double mid = 0.5 * (lo + hi);
+    const double um = it->u0_m + it->v0_m_s * mid + it->a0_m_s2 * mid * mid / 2.0 +
+                      it->jerk_m_s3 * mid * mid * mid / 6.0;
+    (um < u ? lo : hi) = mid;
+  }
+  return it->t0_s + hi;
+}
+
 MotionState MotionProfile::at(double t) const {
   if (segments_.empty())
     return {};

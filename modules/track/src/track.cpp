@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "trainsim/core/error.hpp"
@@ -17,6 +18,46 @@ Track::Track(HorizontalAlignment horizontal, VerticalProfile vertical, CantProfi
   if (vertical_.length() + 1e-6 < horizontal_.length())
     throw ConfigError(fmt::format("vertical profile ({} m) is shorter than the alignment ({} m)",
                                   vertical_.length(), horizontal_.length()));
+}
+
+std::vector<double> Track::breakpointDistances() const {
+  std::vector<double> s;
+  for (std::size_t i = 0; i <= horizontal_.elements().size(); ++i)
+    s.push_back(horizontal_.elementStart(i));
+  for (std::size_t i = 0; i <= vertical_.elements().size(); ++i)
+    s.push_back(vertical_.elementStart(i));
+  for (std::size_t i = 0; !cant_.elements().empty() && i <= cant_.elements().size(); ++i)
+    s.push_back(cant_.elementStart(i));
+  std::vector<double> u;
+  for (double c : s)
+    if (c >= 0.0 && c <= length())
+      u.push_back(vertical_.at(c).distance_m);
+  std::sort(u.begin(), u.end());
+  u.erase(std::unique(u.begin(), u.end()), u.end());
+  return u;
+}
+
+namespace {
+
+// φ = asin(D / b) and its derivatives along u, from the cant's along s (s_u = ds/du, s_uu).
+Track::Roll rollOf(const CantState& d, double s, double s_u, double s_uu) {
+  const double b2 = kCantBase_m * kCantBase_m - d.cant_m * d.cant_m;
+  if (b2 <= 0.0)
+    throw RuntimeError(
+        fmt::format("cant {} m at chainage {} m exceeds the rail base", d.cant_m, s));
+  const double g = 1.0 / std::sqrt(b2);     // dφ/dD
+  const double g_d = d.cant_m * g * g * g;  // d²φ/dD²
+  const double d_u = d.rate_m_per_m * s_u;
+  const double d_uu = d.rate2_1_m * s_u * s_u + d.rate_m_per_m * s_uu;
+  return {std::asin(d.cant_m / kCantBase_m), g * d_u, g_d * d_u * d_u + g * d_uu};
+}
+
+}  // namespace
+
+Track::Roll Track::rollAtDistance(double u) const {
+  const double s = vertical_.chainageAt(u);
+  const VerticalState v = vertical_.at(s);
+  return rollOf(cant_.at(s), s, std::cos(v.pitch_rad), -std::sin(v.pitch_rad) * v.curvature_1_m);
 }
 
 TrackPoint Track::atChainage(double s) const {
@@ -56,17 +97,10 @@ TrackPoint Track::atChainage(double s) const {
   p.d2 << -spsi * kappa * c * c - cpsi * sp * k, cpsi * kappa * c * c - spsi * sp * k,
       c * k + lift_ss * s_u * s_u + lift_s * s_uu;
 
-  const double b2 = kCantBase_m * kCantBase_m - d.cant_m * d.cant_m;
-  if (b2 <= 0.0)
-    throw RuntimeError(
-        fmt::format("cant {} m at chainage {} m exceeds the rail base", d.cant_m, s));
-  const double g = 1.0 / std::sqrt(b2);     // dφ/dD
-  const double g_d = d.cant_m * g * g * g;  // d²φ/dD²
-  const double d_u = d.rate_m_per_m * s_u;
-  const double d_uu = d.rate2_1_m * s_u * s_u + d.rate_m_per_m * s_uu;
-  p.roll_rad = std::asin(d.cant_m / kCantBase_m);
-  p.roll_d1 = g * d_u;
-  p.roll_d2 = g_d * d_u * d_u + g * d_uu;
+  const Roll roll = rollOf(d, s, s_u, s_uu);
+  p.roll_rad = roll.rad;
+  p.roll_d1 = roll.d1;
+  p.roll_d2 = roll.d2;
   return p;
 }
 

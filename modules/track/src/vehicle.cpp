@@ -56,9 +56,22 @@ BodyState bodyState(const Track& track, const VehicleGeometry& geometry, const M
 
   b.yaw_rad = std::atan2(c.y(), c.x());
   b.pitch_rad = std::atan2(c.z(), h);
-  b.roll_rad = 0.5 * (f.roll + r.roll);
-  const double roll_rate = 0.5 * (f.roll_rate + r.roll_rate);
-  const double roll_acc = 0.5 * (f.roll_accel + r.roll_accel);
+  double roll_rate = 0.0, roll_acc = 0.0;
+  if (geometry.wheelbase_m > 0.0) {
+    const double h = geometry.wheelbase_m / 2.0;
+    b.roll_rad = 0.0;
+    for (const double u : {m.u_m - h, m.u_m + h, m.u_m - geometry.bogie_spacing_m - h,
+                           m.u_m - geometry.bogie_spacing_m + h}) {
+      const Track::Roll t = track.rollAtDistance(u);
+      b.roll_rad += 0.25 * t.rad;
+      roll_rate += 0.25 * t.d1 * m.v_m_s;
+      roll_acc += 0.25 * (t.d2 * m.v_m_s * m.v_m_s + t.d1 * m.a_m_s2);
+    }
+  } else {
+    b.roll_rad = 0.5 * (f.roll + r.roll);
+    roll_rate = 0.5 * (f.roll_rate + r.roll_rate);
+    roll_acc = 0.5 * (f.roll_accel + r.roll_accel);
+  }
   b.euler_rate = {roll_rate, pitch_rate, yaw_rate};
 
   const double sf = std::sin(b.roll_rad), cf = std::cos(b.roll_rad);

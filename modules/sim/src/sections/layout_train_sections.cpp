@@ -110,6 +110,12 @@ const scenario::Section<TrainConfig>& trainSection() {
              scenario::nested(&TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m), kM,
              "Distance between the front car's bogie pivots")
         .range(1, 40);
+    b.number("bogie_wheelbase_m",
+             scenario::nested(&TrainConfig::vehicle, &track::VehicleGeometry::wheelbase_m), kM,
+             "Distance between a bogie's two wheelsets: the body rolls with the mean cant under "
+             "its four wheelsets, so a linear cant ramp turns the roll rate over this length "
+             "instead of in a step; 0: the cant at the pivots")
+        .range(0, 6);
     b.object("reference_point", &TrainConfig::reference_point, referencePointBinding(),
              "Body point whose pose is reported (body axes x fwd, y left, z up; origin midway "
              "between the bogie pivots at top of rail)");
@@ -120,6 +126,9 @@ const scenario::Section<TrainConfig>& trainSection() {
       if (c.vehicle.bogie_spacing_m > c.limits.train_length_m)
         out.push_back(
             {at(c.vehicle.bogie_spacing_m), "must not exceed " + at(c.limits.train_length_m)});
+      if (c.vehicle.wheelbase_m >= c.vehicle.bogie_spacing_m)
+        out.push_back(
+            {at(c.vehicle.wheelbase_m), "must be below " + at(c.vehicle.bogie_spacing_m)});
     });
     return s;
   }();

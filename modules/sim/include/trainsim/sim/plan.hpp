@@ -33,6 +33,9 @@ class TrainTrajectory final : public Trajectory {
   TimeNs samplePeriod() const override { return period_; }
   std::int64_t sampleCount() const override { return count_; }
   TrajectorySample at(TimeNs t) const override;
+  /// Where either bogie pivot passes the start of a track element, and where a motion segment
+  /// begins.
+  std::vector<TimeNs> breakpoints(TimeNs t0, TimeNs t1) const override;
 
   track::MotionState motion(std::int64_t k) const;
   /// The motion at time t, clamped to [0, endTime()].
@@ -49,6 +52,7 @@ class TrainTrajectory final : public Trajectory {
   Eigen::Vector3d reference_;
   TimeNs period_;
   std::int64_t count_;
+  std::vector<double> track_breaks_;  // Track::breakpointDistances()
 };
 
 /// The plan is a chain of immutable stages (docs/REFERENCES.md P1, stages 1–3; later terrain

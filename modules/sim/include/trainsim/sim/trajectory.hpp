@@ -1,6 +1,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -38,10 +40,27 @@ class Trajectory {
   /// thread-safe.
   virtual TrajectorySample at(TimeNs t) const = 0;
 
+  /// Times strictly inside (t0, t1), sorted, where the motion is not smooth: a derivative of
+  /// the position or the attitude may jump there (an element of the track starts under a
+  /// bogie, a motion segment changes its jerk). Quadrature over an interval splits there
+  /// (intervalNodes). None by default.
+  virtual std::vector<TimeNs> breakpoints(TimeNs /*t0*/, TimeNs /*t1*/) const { return {}; }
+
   /// Sample k, 0 <= k < sampleCount(): at(k * T_S), bit for bit.
   TrajectorySample sample(std::int64_t k) const { return at(k * samplePeriod()); }
   /// Time of the last sample.
   TimeNs endTime() const { return (sampleCount() - 1) * samplePeriod(); }
 };
+
+/// Quadrature nodes over [t0, t1]: three-point Gauss–Legendre on each smooth piece between the
+/// trajectory's breakpoints, so the integral of any quantity of the motion is exact to the
+/// piece's sixth derivative (about 1e-20 relative for a 10 ms piece of train motion) even
+/// where a rate or an acceleration steps. Calls node(t, weight_s) with the weights in seconds
+/// summing to t1 − t0; nodes are rounded to the nanosecond. Calls breakpoint(t) for each
+/// breakpoint inside, where a quantity whose derivative jumps must add the jump's impulse (a
+/// step of the roll rate moves a point off the roll axis with a step in velocity).
+void intervalNodes(const Trajectory& trajectory, TimeNs t0, TimeNs t1,
+                   const std::function<void(TimeNs, double)>& node,
+                   const std::function<void(TimeNs)>& breakpoint = {});
 
 }  // namespace trainsim::sim

@@ -66,6 +66,9 @@ class MotionProfile {
   const SpeedLimit& limit() const { return limit_; }
   double duration() const;
   MotionState at(double t_s) const;
+  /// The first time the train reaches distance u (by bisection on the monotone cubic of the
+  /// segment that reaches it, to 1e-12 s); the start or end time outside the run.
+  double timeAtDistance(double u_m) const;
 
   /// The same run with the train at rest for `before_s` at its start position before it
   /// departs and for `after_s` where it ends after it arrives (IMU alignment, calibration).

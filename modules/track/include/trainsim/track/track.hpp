@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "trainsim/track/horizontal.hpp"
@@ -59,7 +61,18 @@ class Track {
   double distanceLength() const { return vertical_.at(length()).distance_m; }
 
   TrackPoint atChainage(double s) const;
+  /// Distances u (sorted, unique) where an element of the alignment, the vertical profile or
+  /// the cant profile starts: where a derivative of the track may jump, so quadrature over
+  /// the train's motion splits there.
+  std::vector<double> breakpointDistances() const;
   TrackPoint atDistance(double u) const { return atChainage(vertical_.chainageAt(u)); }
+
+  /// The cant angle φ and its derivatives dφ/du, d²φ/du² at distance u (TrackPoint's roll
+  /// fields), without the alignment's position.
+  struct Roll {
+    double rad = 0.0, d1 = 0.0, d2 = 0.0;
+  };
+  Roll rollAtDistance(double u) const;
 
  private:
   HorizontalAlignment horizontal_;

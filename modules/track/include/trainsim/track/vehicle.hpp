@@ -11,9 +11,14 @@ namespace trainsim::track {
 /// The carbody as a rigid body on two bogie pivots that run on the track centreline at top of
 /// rail, `bogie_spacing_m` apart along the track. Body frame: origin midway between the pivots,
 /// x along the chord from rear to front pivot, y to the left, z up; roll is the mean of the
-/// track roll at the two pivots (no suspension).
+/// track roll under the four wheelsets, `wheelbase_m` apart about each pivot (each bogie
+/// frame rolls with the mean of its two wheelsets; no suspension). A linear cant ramp steps the
+/// roll rate of a single wheelset; the mean ramps it over wheelbase / speed, so the body's
+/// rate stays continuous and no point of it steps in velocity. With wheelbase 0 the roll is
+/// the mean at the two pivots.
 struct VehicleGeometry {
   double bogie_spacing_m = 17.5;
+  double wheelbase_m = 2.5;  ///< passenger bogies: 2.5–2.7 m (docs/REFERENCES.md R1.7)
 };
 
 /// Kinematics of the body at one instant, everything in closed form from the track and the
