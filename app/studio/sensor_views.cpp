@@ -59,13 +59,19 @@ std::vector<PlotRow> gnssRows(const DatasetSensor& sensor, const DatasetTables& 
     }
     const int k = truthRow(tr, t_ns);
     const Eigen::Vector3d p(tr.at("x_m")[k], tr.at("y_m")[k], tr.at("z_m")[k]);
+    // yaw, pitch and roll are against the local level at the train (trajectory.csv), and the
+    // errors are east/north/up there.
+    const Eigen::Matrix3d r_world_local = anchor.rotationAnchorFromLocalEnu(p);
     const Eigen::Vector3d truth =
-        p + attitude(tr.at("yaw_rad")[k], tr.at("pitch_rad")[k], tr.at("roll_rad")[k]) * antenna;
+        p + r_world_local *
+                attitude(tr.at("yaw_rad")[k], tr.at("pitch_rad")[k], tr.at("roll_rad")[k]) *
+                antenna;
     const Eigen::Vector3d fixed =
         anchor.toEnu({g.at("latitude_deg")[i], g.at("longitude_deg")[i], g.at("height_m")[i]});
-    de.push_back(fixed.x() - truth.x());
-    dn.push_back(fixed.y() - truth.y());
-    du.push_back(fixed.z() - truth.z());
+    const Eigen::Vector3d error = r_world_local.transpose() * (fixed - truth);
+    de.push_back(error.x());
+    dn.push_back(error.y());
+    du.push_back(error.z());
   }
   return {{"east error [m]", {{"fix − truth, east", t, de, kAxisColours[0]}}},
           {"north error [m]", {{"fix − truth, north", t, dn, kAxisColours[1]}}},

@@ -43,8 +43,7 @@ std::vector<std::vector<double>> readRows(const fs::path& file) {
 
 Eigen::Matrix3d expSo3(const Eigen::Vector3d& phi) {
   const double a = phi.norm();
-  return a == 0.0 ? Eigen::Matrix3d::Identity()
-                  : Eigen::AngleAxisd(a, phi / a).toRotationMatrix();
+  return a == 0.0 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(a, phi / a).toRotationMatrix();
 }
 
 // Navigation in the Earth-fixed Cartesian frame of the anchor (ENU axes at the anchor):
@@ -122,20 +121,20 @@ class ImuClosure : public ::testing::Test {
   static void SetUpTestSuite() {
     scenario::Json input = loadScenario("").json();
     input["route"]["generator"]["length_m"] = 10000;
-    const scenario::Json mount = {{"x_m", 8.0},     {"y_m", 0.4},       {"z_m", 3.5},
+    const scenario::Json mount = {{"x_m", 8.0},      {"y_m", 0.4},       {"z_m", 3.5},
                                   {"roll_deg", 180}, {"pitch_deg", 0.0}, {"yaw_deg", 90}};
     scenario::Json imus = scenario::Json::array();
-    for (const auto& [name, sampling, increments] :
-         {std::tuple{"mean", "interval_mean", false}, {"inc", "interval_mean", true},
-          {"inst", "instantaneous", false}})
+    for (const auto& [name, sampling, increments] : {std::tuple{"mean", "interval_mean", false},
+                                                     {"inc", "interval_mean", true},
+                                                     {"inst", "instantaneous", false}})
       imus.push_back({{"name", name},
                       {"preset", "ideal"},
                       {"sampling", sampling},
                       {"increments", increments},
                       {"mount", mount}});
     input["sensors"] = {{"imus", imus}};
-    scenario_ = std::make_unique<scenario::Scenario>(
-        scenario::Scenario::resolve(input, scenarioSchema()));
+    scenario_ =
+        std::make_unique<scenario::Scenario>(scenario::Scenario::resolve(input, scenarioSchema()));
     plan_ = makePlan(*scenario_);
     // One folder per process: ctest runs the tests of this suite in parallel processes.
     out_ = fs::temp_directory_path() / ("trainsim-imu-closure-" + std::to_string(::getpid()));
@@ -198,8 +197,8 @@ fs::path ImuClosure::out_;
 TEST_F(ImuClosure, IntervalMeansCloseWithinOneCentimetreOverTenKilometres) {
   const Closure c = integrate("mean", false, false);
   RecordProperty("max_error_m", std::to_string(c.max_m));
-  std::cout << "interval means: max " << c.max_m << " m, end " << c.end_m << " m over "
-            << c.run_m << " m\n";
+  std::cout << "interval means: max " << c.max_m << " m, end " << c.end_m << " m over " << c.run_m
+            << " m\n";
   EXPECT_GT(c.run_m, 9900.0);
   EXPECT_LE(c.max_m, 0.01);
 }

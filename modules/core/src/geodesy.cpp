@@ -1,7 +1,10 @@
 #include "trainsim/core/geodesy.hpp"
 
+#include <GeographicLib/AzimuthalEquidistant.hpp>
+#include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -69,6 +72,45 @@ GeodeticPoint GeodeticAnchor::fromEnu(const Eigen::Vector3d& p_enu) const {
   impl_->local.Reverse(p_enu.x(), p_enu.y(), p_enu.z(), p.latitude_deg, p.longitude_deg,
                        p.height_m);
   return p;
+}
+
+double GeodeticAnchor::gaussianRadius() const {
+  const GeographicLib::Geodesic& g = GeographicLib::Geodesic::WGS84();
+  const double e2 = g.Flattening() * (2.0 - g.Flattening());
+  const double s = std::sin(origin_.latitude_deg * std::numbers::pi / 180.0);
+  const double w2 = 1.0 - e2 * s * s;
+  return g.EquatorialRadius() * std::sqrt(1.0 - e2) / w2;
+}
+
+Eigen::Vector2d GeodeticAnchor::toAzimuthalEquidistant(double lat, double lon) const {
+  const GeographicLib::AzimuthalEquidistant aep(GeographicLib::Geodesic::WGS84());
+  double x = 0, y = 0, azi = 0, rk = 0;
+  aep.Forward(origin_.latitude_deg, origin_.longitude_deg, lat, lon, x, y, azi, rk);
+  return {x, y};
+}
+
+GeodeticPoint GeodeticAnchor::fromAzimuthalEquidistant(const Eigen::Vector2d& en,
+                                                       double height_m) const {
+  const GeographicLib::AzimuthalEquidistant aep(GeographicLib::Geodesic::WGS84());
+  GeodeticPoint p;
+  double azi = 0, rk = 0;
+  aep.Reverse(origin_.latitude_deg, origin_.longitude_deg, en.x(), en.y(), p.latitude_deg,
+              p.longitude_deg, azi, rk);
+  p.height_m = height_m;
+  return p;
+}
+
+double GeodeticAnchor::azimuthOfProjectedDirection(const Eigen::Vector2d& en,
+                                                   double heading_rad) const {
+  // Through a point 1 m along the direction: the projection's distortion over 1 m is far
+  // below the 1e-9 rad this is used to.
+  const GeodeticPoint a = fromAzimuthalEquidistant(en, 0.0);
+  const GeodeticPoint b = fromAzimuthalEquidistant(
+      en + Eigen::Vector2d(std::cos(heading_rad), std::sin(heading_rad)), 0.0);
+  double s12 = 0, azi1 = 0, azi2 = 0;
+  GeographicLib::Geodesic::WGS84().Inverse(a.latitude_deg, a.longitude_deg, b.latitude_deg,
+                                           b.longitude_deg, s12, azi1, azi2);
+  return azi1 * std::numbers::pi / 180.0;
 }
 
 Eigen::Matrix3d GeodeticAnchor::rotationAnchorFromLocalEnu(const Eigen::Vector3d& p_enu) const {

@@ -168,6 +168,9 @@ std::shared_ptr<const RouteStage> buildRoute(const scenario::Scenario& sc, std::
     return track::generateRoute(config.generator, opt, sc.seed());
   };
   track::DesignedRoute route = route_of();
+  // The design (chainage, curvature, grade and cant against the local level) laid on the
+  // WGS-84 ellipsoid; world positions in the anchor's Earth-fixed ENU frame.
+  route.route.track.placeOnEarth(geodeticOriginSection().read(sc.json()));
   std::vector<track::Violation> violations = route.fitting;
   for (track::Violation& v : track::checkDesign(route.route, opt.rules))
     violations.push_back(std::move(v));
@@ -293,7 +296,9 @@ void writeRailroadJson(const Plan& plan, const TextSink& sink) {
   }
   const nlohmann::json head = {
       {"format", "trainsim-railroad"},
-      {"frame", "world ENU at geodetic_origin, metres; z is height relative to the origin"},
+      {"frame",
+       "world: the Earth-fixed ENU frame tangent to the WGS-84 ellipsoid at geodetic_origin, "
+       "metres (not a map plane: z drops by d^2/2R with the distance d from the origin)"},
       {"main_track", {{"length_m", plan.route().route.track.length()}, {"blocks", main_blocks}}}};
   std::string text = head.dump(1);
   text.pop_back();  // the closing brace: the tracks follow

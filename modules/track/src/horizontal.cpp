@@ -163,6 +163,18 @@ std::size_t HorizontalAlignment::elementAt(double s) const {
   return it == s_start_.begin() ? 0 : static_cast<std::size_t>(it - s_start_.begin()) - 1;
 }
 
+double HorizontalAlignment::headingAt(double s) const {
+  s = std::clamp(s, 0.0, length());
+  const std::size_t i = elementAt(s);
+  return heading_start_[i] + elements_[i].headingChange(s - s_start_[i]);
+}
+
+double HorizontalAlignment::curvatureAt(double s) const {
+  s = std::clamp(s, 0.0, length());
+  const std::size_t i = elementAt(s);
+  return elements_[i].curvature(s - s_start_[i]);
+}
+
 HorizontalState HorizontalAlignment::at(double s) const {
   s = std::clamp(s, 0.0, length());
   const std::size_t i = elementAt(s);

@@ -228,7 +228,7 @@ struct MainFrame {
 
 MainFrame mainFrame(const Track& track, double s) {
   const TrackPoint tp = track.atChainage(s);
-  return {tp.position, Eigen::Vector3d(-std::sin(tp.heading_rad), std::cos(tp.heading_rad), 0.0)};
+  return {tp.position, tp.left};
 }
 
 // The main blocks as intervals; one interval over the whole track if the route has none.
@@ -616,20 +616,20 @@ TrackFrame trackFrame(const Track& main, const LayoutTrack& track, double main_c
                                       [](const OffsetPiece& p, double v) { return p.x1 < v; });
   const double y = piece->offset(x), dy = piece->slope(x);
   const TrackPoint tp = main.atChainage(x);
-  const Eigen::Vector3d t_plan(std::cos(tp.heading_rad), std::sin(tp.heading_rad), 0.0);
-  const Eigen::Vector3d l_plan(-t_plan.y(), t_plan.x(), 0.0);
-  // P(x) = main(x) + y(x) l(x), with dl/dx = −κ t and z from the main track at x.
+  // The main track's horizontal axes (local level) at x.
+  const Eigen::Vector3d l_plan = tp.left;
+  const Eigen::Vector3d t_plan = l_plan.cross(tp.up);
+  // P(x) = main(x) + y(x) l(x), with dl/dx = −κ t and the height from the main track at x.
   const double dz_dx = std::tan(tp.pitch_rad);
-  const Eigen::Vector3d dp =
-      (1.0 - tp.curvature_1_m * y) * t_plan + dy * l_plan + Eigen::Vector3d(0.0, 0.0, dz_dx);
+  const Eigen::Vector3d dp = (1.0 - tp.curvature_1_m * y) * t_plan + dy * l_plan + dz_dx * tp.up;
   TrackFrame f;
   f.main_chainage_m = x;
   f.position = tp.position + y * l_plan;
   f.tangent = dp.normalized();
   f.roll_rad = tp.roll_rad;
-  // Left across the track: horizontal and square to the tangent, then turned by the roll
-  // about the tangent (left rail up for positive roll).
-  const Eigen::Vector3d level_left = Eigen::Vector3d::UnitZ().cross(f.tangent).normalized();
+  // Left across the track: level and square to the tangent, then turned by the roll about the
+  // tangent (left rail up for positive roll).
+  const Eigen::Vector3d level_left = tp.up.cross(f.tangent).normalized();
   f.left = Eigen::AngleAxisd(f.roll_rad, f.tangent) * level_left;
   f.up = f.tangent.cross(f.left);
   return f;

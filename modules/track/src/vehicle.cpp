@@ -7,16 +7,54 @@
 namespace trainsim::track {
 namespace {
 
-struct PivotKinematics {
-  Eigen::Vector3d p, v, a;
-  double roll, roll_rate, roll_accel;
+// Second-order jets in time: a quantity with its first two time derivatives, so the body's
+// attitude, rate and angular acceleration follow from the pivots' motion by the product and
+// chain rules, exactly, whatever the frame the track is laid in.
+struct Scalar {
+  double v, d, dd;
 };
+struct Vec {
+  Eigen::Vector3d v, d, dd;
+};
+Vec operator+(const Vec& a, const Vec& b) {
+  return {a.v + b.v, a.d + b.d, a.dd + b.dd};
+}
+Vec operator-(const Vec& a, const Vec& b) {
+  return {a.v - b.v, a.d - b.d, a.dd - b.dd};
+}
+Vec operator*(const Scalar& a, const Vec& x) {
+  return {a.v * x.v, a.d * x.v + a.v * x.d, a.dd * x.v + 2.0 * a.d * x.d + a.v * x.dd};
+}
+Vec cross(const Vec& a, const Vec& b) {
+  return {a.v.cross(b.v), a.d.cross(b.v) + a.v.cross(b.d),
+          a.dd.cross(b.v) + 2.0 * a.d.cross(b.d) + a.v.cross(b.dd)};
+}
+Vec normalized(const Vec& a) {
+  const double r = a.v.norm();
+  const double rd = a.v.dot(a.d) / r;
+  const double rdd = (a.d.dot(a.d) + a.v.dot(a.dd)) / r - rd * rd / r;
+  const Scalar inv{1.0 / r, -rd / (r * r), -rdd / (r * r) + 2.0 * rd * rd / (r * r * r)};
+  return inv * a;
+}
+Scalar sin(const Scalar& a) {
+  return {std::sin(a.v), std::cos(a.v) * a.d, -std::sin(a.v) * a.d * a.d + std::cos(a.v) * a.dd};
+}
+Scalar cos(const Scalar& a) {
+  return {std::cos(a.v), -std::sin(a.v) * a.d, -std::cos(a.v) * a.d * a.d - std::sin(a.v) * a.dd};
+}
 
 // A point running along the track at distance u with speed u̇ and acceleration ü:
-// V = P' u̇, A = P'' u̇² + P' ü (primes: d/du), and likewise for the roll angle.
-PivotKinematics pivot(const TrackPoint& t, double speed, double accel) {
-  return {t.position, t.d1 * speed,      t.d2 * speed * speed + t.d1 * accel,
-          t.roll_rad, t.roll_d1 * speed, t.roll_d2 * speed * speed + t.roll_d1 * accel};
+// V = P' u̇, A = P'' u̇² + P' ü (primes: d/du); likewise the local vertical.
+Vec along(const Eigen::Vector3d& x, const Eigen::Vector3d& x_u, const Eigen::Vector3d& x_uu,
+          const MotionState& m) {
+  return {x, x_u * m.v_m_s, x_uu * m.v_m_s * m.v_m_s + x_u * m.a_m_s2};
+}
+
+// Local east and north at a track point, from its horizontal tangent and left vectors.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> eastNorth(const TrackPoint& t) {
+  const Eigen::Vector3d th = t.left.cross(t.up);
+  const double c = std::cos(t.heading_rad), s = std::sin(t.heading_rad);
+  return {c * th - s * t.left, s * th + c * t.left};
 }
 
 }  // namespace
@@ -25,65 +63,67 @@ BodyState bodyState(const Track& track, const VehicleGeometry& geometry, const M
   BodyState b;
   b.front_track = track.atDistance(m.u_m);
   const TrackPoint rear_track = track.atDistance(m.u_m - geometry.bogie_spacing_m);
-  const PivotKinematics f = pivot(b.front_track, m.v_m_s, m.a_m_s2);
-  const PivotKinematics r = pivot(rear_track, m.v_m_s, m.a_m_s2);
-  b.front = f.p;
-  b.rear = r.p;
-  b.origin = 0.5 * (f.p + r.p);
-  b.origin_v = 0.5 * (f.v + r.v);
-  b.origin_a = 0.5 * (f.a + r.a);
+  const TrackPoint& ft = b.front_track;
+  const Vec f = along(ft.position, ft.d1, ft.d2, m);
+  const Vec r = along(rear_track.position, rear_track.d1, rear_track.d2, m);
+  b.front = f.v;
+  b.rear = r.v;
+  b.origin = 0.5 * (f.v + r.v);
+  b.origin_v = 0.5 * (f.d + r.d);
+  b.origin_a = 0.5 * (f.dd + r.dd);
 
-  // Chord c and its first two time derivatives.
-  const Eigen::Vector3d c = f.p - r.p;
-  const Eigen::Vector3d cd = f.v - r.v;
-  const Eigen::Vector3d cdd = f.a - r.a;
-  const double h2 = c.x() * c.x() + c.y() * c.y();
-  const double h = std::sqrt(h2);
-  // ψ = atan2(c_y, c_x): ψ̇ = (c_x ċ_y − c_y ċ_x)/h², ψ̈ = (c_x c̈_y − c_y c̈_x)/h² − ψ̇ 2ḣ/h.
-  const double hd = (c.x() * cd.x() + c.y() * cd.y()) / h;
-  const double cross = c.x() * cd.y() - c.y() * cd.x();
-  const double yaw_rate = cross / h2;
-  const double yaw_acc = (c.x() * cdd.y() - c.y() * cdd.x()) / h2 - 2.0 * yaw_rate * hd / h;
-  // θ = atan2(c_z, h): θ̇ = (h ċ_z − c_z ḣ)/(h² + c_z²).
-  const double hdd =
-      (cd.x() * cd.x() + cd.y() * cd.y() + c.x() * cdd.x() + c.y() * cdd.y()) / h - hd * hd / h;
-  const double n2 = h2 + c.z() * c.z();
-  const double num = h * cd.z() - c.z() * hd;
-  const double pitch_rate = num / n2;
-  const double num_d = h * cdd.z() - c.z() * hdd;  // (ḣ ċ_z − ċ_z ḣ) cancels
-  const double n2_d = 2.0 * (h * hd + c.z() * cd.z());
-  const double pitch_acc = num_d / n2 - num * n2_d / (n2 * n2);
-
-  b.yaw_rad = std::atan2(c.y(), c.x());
-  b.pitch_rad = std::atan2(c.z(), h);
-  double roll_rate = 0.0, roll_acc = 0.0;
+  // Roll: the mean cant angle under the four wheelsets (or the two pivots).
+  Scalar roll{0.0, 0.0, 0.0};
   if (geometry.wheelbase_m > 0.0) {
     const double h = geometry.wheelbase_m / 2.0;
-    b.roll_rad = 0.0;
     for (const double u : {m.u_m - h, m.u_m + h, m.u_m - geometry.bogie_spacing_m - h,
                            m.u_m - geometry.bogie_spacing_m + h}) {
       const Track::Roll t = track.rollAtDistance(u);
-      b.roll_rad += 0.25 * t.rad;
-      roll_rate += 0.25 * t.d1 * m.v_m_s;
-      roll_acc += 0.25 * (t.d2 * m.v_m_s * m.v_m_s + t.d1 * m.a_m_s2);
+      roll.v += 0.25 * t.rad;
+      roll.d += 0.25 * t.d1 * m.v_m_s;
+      roll.dd += 0.25 * (t.d2 * m.v_m_s * m.v_m_s + t.d1 * m.a_m_s2);
     }
   } else {
-    b.roll_rad = 0.5 * (f.roll + r.roll);
-    roll_rate = 0.5 * (f.roll_rate + r.roll_rate);
-    roll_acc = 0.5 * (f.roll_accel + r.roll_accel);
+    for (const TrackPoint* t : {&ft, &rear_track}) {
+      roll.v += 0.5 * t->roll_rad;
+      roll.d += 0.5 * t->roll_d1 * m.v_m_s;
+      roll.dd += 0.5 * (t->roll_d2 * m.v_m_s * m.v_m_s + t->roll_d1 * m.a_m_s2);
+    }
   }
-  b.euler_rate = {roll_rate, pitch_rate, yaw_rate};
 
+  // Axes: x along the chord from the rear to the front pivot; y level (square to the local
+  // vertical, the mean of the pivots'), rolled by the cant; z = x × y.
+  const Vec up = along(ft.up, ft.up_d1, ft.up_d2, m) +
+                 along(rear_track.up, rear_track.up_d1, rear_track.up_d2, m);
+  const Vec x = normalized(f - r);
+  const Vec y0 = normalized(cross(up, x));
+  const Vec z0 = cross(x, y0);
+  const Scalar c = cos(roll), s = sin(roll);
+  const Vec y = c * y0 + s * z0;
+  const Vec z = c * z0 - s * y0;
+  b.r_world_body.col(0) = x.v;
+  b.r_world_body.col(1) = y.v;
+  b.r_world_body.col(2) = z.v;
+  // For R = [x y z]: ω = ½ Σ eᵢ × ėᵢ, and its derivative ½ Σ eᵢ × ëᵢ (ėᵢ × ėᵢ = 0).
+  const Eigen::Vector3d w = 0.5 * (x.v.cross(x.d) + y.v.cross(y.d) + z.v.cross(z.d));
+  const Eigen::Vector3d alpha = 0.5 * (x.v.cross(x.dd) + y.v.cross(y.dd) + z.v.cross(z.dd));
+  b.w_body = b.r_world_body.transpose() * w;
+  b.alpha_body = b.r_world_body.transpose() * alpha;
+
+  // Euler angles against the local level at the body: R_local_body = attitude(ψ, θ, φ).
+  const auto [ef, nf] = eastNorth(ft);
+  const auto [er, nr] = eastNorth(rear_track);
+  const Eigen::Vector3d u_b = up.v.normalized();
+  const Eigen::Vector3d e_b = (ef + er - (ef + er).dot(u_b) * u_b).normalized();
+  const Eigen::Vector3d n_b = u_b.cross(e_b);
+  b.yaw_rad = std::atan2(x.v.dot(n_b), x.v.dot(e_b));
+  b.pitch_rad = std::asin(std::clamp(x.v.dot(u_b), -1.0, 1.0));
+  b.roll_rad = roll.v;
+  // (φ̇, θ̇, ψ̇) from the body rate: ω_body = (φ̇ + ψ̇ sθ, −θ̇ cφ + ψ̇ cθ sφ, θ̇ sφ + ψ̇ cθ cφ).
   const double sf = std::sin(b.roll_rad), cf = std::cos(b.roll_rad);
-  const double st = std::sin(b.pitch_rad), ct = std::cos(b.pitch_rad);
-  b.r_world_body = attitude(b.yaw_rad, b.pitch_rad, b.roll_rad);
-  // ω_body for R = Rz(ψ) Ry(−θ) Rx(φ), and its time derivative.
-  const double fd = roll_rate, td = pitch_rate, pd = yaw_rate;
-  b.w_body = {fd + pd * st, -td * cf + pd * ct * sf, td * sf + pd * ct * cf};
-  b.alpha_body = {
-      roll_acc + yaw_acc * st + pd * td * ct,
-      -pitch_acc * cf + td * fd * sf + yaw_acc * ct * sf - pd * td * st * sf + pd * fd * ct * cf,
-      pitch_acc * sf + td * fd * cf + yaw_acc * ct * cf - pd * td * st * cf - pd * fd * ct * sf};
+  const double yaw_rate = (b.w_body.y() * sf + b.w_body.z() * cf) / std::cos(b.pitch_rad);
+  b.euler_rate = {b.w_body.x() - yaw_rate * std::sin(b.pitch_rad),
+                  b.w_body.z() * sf - b.w_body.y() * cf, yaw_rate};
   return b;
 }
 

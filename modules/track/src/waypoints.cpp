@@ -102,10 +102,12 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       const double h = *number_at(column.count("height_m") ? "height_m" : "altitude_m", true);
       if (std::abs(lat) > 90.0 || std::abs(lon) > 180.0)
         throw ConfigError(fmt::format("{}:{}: latitude/longitude out of range", where, number));
-      // Horizontal position in the anchor's ENU plane; height above the ellipsoid relative to
-      // the anchor, so that grades are measured against the local level.
-      const Eigen::Vector3d enu = anchor.toEnu({lat, lon, h});
-      w.p = {enu.x(), enu.y(), h - anchor.origin().height_m};
+      // Horizontal position in the anchor's azimuthal equidistant projection (distances and
+      // azimuths from the anchor are the ground's), where the route is designed before it is
+      // laid on the ellipsoid; height above the ellipsoid relative to the anchor, so that
+      // grades are measured against the local level and the heights are kept.
+      const Eigen::Vector2d en = anchor.toAzimuthalEquidistant(lat, lon);
+      w.p = {en.x(), en.y(), h - anchor.origin().height_m};
     }
     w.radius_m = number_at("radius_m", false).value_or(0.0);
     w.vertical_radius_m = number_at("vertical_radius_m", false).value_or(0.0);
@@ -127,6 +129,17 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
     throw ConfigError(fmt::format("{}: no header line", where));
   if (points.size() < 2)
     throw ConfigError(fmt::format("{}: a route needs at least two waypoints", where));
+  if (!ned) {
+    // Chainage is measured at the rail's height, the projection on the ellipsoid: scale the
+    // plane by (R + h)/R at the waypoints' mean height (R the anchor's Gaussian radius), so
+    // that the route laid back on the Earth passes its points to (Δh/R)·d + d³/R².
+    double mean = 0.0;
+    for (const Waypoint& w : points)
+      mean += (w.p.z() + anchor.origin().height_m) / static_cast<double>(points.size());
+    const double scale = 1.0 + mean / anchor.gaussianRadius();
+    for (Waypoint& w : points)
+      w.p.head<2>() *= scale;
+  }
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
     if ((points[i + 1].p - points[i].p).head<2>().norm() < 1e-3)
       throw ConfigError(fmt::format("{}:{}: waypoint repeats the one on line {}", where,

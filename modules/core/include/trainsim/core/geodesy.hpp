@@ -45,6 +45,17 @@ class GeodeticAnchor {
   Eigen::Vector3d toNed(const GeodeticPoint& p) const { return enuToNed(toEnu(p)); }
   GeodeticPoint fromNed(const Eigen::Vector3d& p_ned) const { return fromEnu(nedToEnu(p_ned)); }
 
+  /// √(M N), the ellipsoid's Gaussian radius of curvature at the anchor (m).
+  double gaussianRadius() const;
+  /// The anchor's azimuthal equidistant projection (GeographicLib): (east, north) in metres
+  /// whose length is the geodesic distance from the anchor and whose direction is the
+  /// geodesic's azimuth there. Routes given in latitude/longitude are designed in it.
+  Eigen::Vector2d toAzimuthalEquidistant(double latitude_deg, double longitude_deg) const;
+  GeodeticPoint fromAzimuthalEquidistant(const Eigen::Vector2d& en, double height_m) const;
+  /// Geodetic azimuth (rad, from north clockwise) at the projected point `en` of the
+  /// direction that leaves it at `heading_rad` (from east counter-clockwise) in the projection.
+  double azimuthOfProjectedDirection(const Eigen::Vector2d& en, double heading_rad) const;
+
   /// Rotation R_enu_local from the ENU frame tangent at the geodetic point of `p_enu` to the
   /// anchor's ENU frame (identity at the anchor). Needed because "up" turns by about 9e-3 rad
   /// per 57 km of distance from the anchor.

@@ -73,6 +73,10 @@ class HorizontalAlignment {
   double elementStart(std::size_t i) const { return s_start_[i]; }
   /// Index of the element containing chainage s (the later one at a joint).
   std::size_t elementAt(double s) const;
+  /// Heading at chainage s in closed form (no position), clamped like at().
+  double headingAt(double s) const;
+  /// Curvature at chainage s (the later element's at a joint), clamped like at().
+  double curvatureAt(double s) const;
 
   /// State at chainage s; s is clamped to [0, length()]. Thread-safe.
   HorizontalState at(double s) const;

@@ -4,6 +4,9 @@
 
 #include <Eigen/Core>
 
+#include <memory>
+
+#include "trainsim/track/earth.hpp"
 #include "trainsim/track/horizontal.hpp"
 #include "trainsim/track/profile.hpp"
 
@@ -33,18 +36,27 @@ struct TrackPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world ENU, m
   Eigen::Vector3d d1 = Eigen::Vector3d::UnitX();       ///< dP/du
   Eigen::Vector3d d2 = Eigen::Vector3d::Zero();        ///< d²P/du², 1/m
-  double heading_rad = 0.0;                            ///< ψ, from east counter-clockwise
-  double pitch_rad = 0.0;                              ///< θ of the vertical profile
-  double roll_rad = 0.0;                ///< φ = asin(D/b), positive with the left rail higher
-  double roll_d1 = 0.0;                 ///< dφ/du, rad/m
-  double roll_d2 = 0.0;                 ///< d²φ/du², rad/m²
-  double curvature_1_m = 0.0;           ///< horizontal curvature, signed positive left
-  double curvature_rate_1_m2 = 0.0;     ///< dκ/ds
-  double vertical_curvature_1_m = 0.0;  ///< dθ/du
+  double heading_rad = 0.0;  ///< ψ, from the local east counter-clockwise
+  double pitch_rad = 0.0;    ///< θ of the vertical profile
+  double roll_rad = 0.0;     ///< φ = asin(D/b), positive with the left rail higher
+  double roll_d1 = 0.0;      ///< dφ/du, rad/m
+  double roll_d2 = 0.0;      ///< d²φ/du², rad/m²
+  Eigen::Vector3d left = Eigen::Vector3d::UnitY();  ///< horizontal (local level), world axes
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();    ///< local vertical, world axes
+  Eigen::Vector3d up_d1 = Eigen::Vector3d::Zero();  ///< d(up)/du: the ground's turn, 1/m
+  Eigen::Vector3d up_d2 = Eigen::Vector3d::Zero();  ///< d²(up)/du² (to O(1/R²)), 1/m²
+  double curvature_1_m = 0.0;                       ///< horizontal curvature, signed positive left
+  double curvature_rate_1_m2 = 0.0;                 ///< dκ/ds
+  double vertical_curvature_1_m = 0.0;              ///< dθ/du
   double cant_m = 0.0;
 };
 
 /// A track in 3D: horizontal alignment, vertical profile and cant over the same chainage.
+/// Unplaced, it lies on the plane z = profile height (tests, and the design's own geometry);
+/// placed on the Earth (placeOnEarth, what every planned route does), it follows the WGS-84
+/// ellipsoid (EarthPlacement): chainage is ground distance, z the profile height above the
+/// anchor's ellipsoidal height, grades and cant against the local level, and positions and
+/// vectors in the anchor's Earth-fixed ENU frame.
 class Track {
  public:
   Track(HorizontalAlignment horizontal, VerticalProfile vertical, CantProfile cant,
@@ -53,6 +65,9 @@ class Track {
   const HorizontalAlignment& horizontal() const { return horizontal_; }
   const VerticalProfile& vertical() const { return vertical_; }
   const CantProfile& cant() const { return cant_; }
+  /// Lays the track on the WGS-84 ellipsoid about `anchor` (see the class comment).
+  void placeOnEarth(const GeodeticPoint& anchor);
+  const EarthPlacement* earth() const { return earth_.get(); }
   CantRotation cantRotation() const { return rotation_; }
 
   /// Horizontal length (chainage of the end).
@@ -79,6 +94,7 @@ class Track {
   VerticalProfile vertical_;
   CantProfile cant_;
   CantRotation rotation_;
+  std::shared_ptr<const EarthPlacement> earth_;  // immutable, shared by copies
 };
 
 }  // namespace trainsim::track
