@@ -23,17 +23,17 @@ std::unique_ptr<Plan> planFor(const scenario::Json& input) {
 
 TEST(RouteOnEarth, LevelStraightKeepsItsHeightAndAnImuFeelsNoAlongTrackForce) {
   const scenario::Json none = {{"probability", 0.0}};
-  const std::unique_ptr<Plan> plan = planFor(
-      {{"route",
-        {{"station_stops", false},
-         {"generator",
-          {{"length_m", 100'000},
-           {"curve_share", 0.0},
-           {"grade_max_permille", 0.0},
-           {"station", none},
-           {"tunnel", none},
-           {"bridge", none}}}}},
-       {"layout", {{"double_track", false}, {"auxiliary", {{"probability", 0.0}}}}}});
+  const std::unique_ptr<Plan> plan =
+      planFor({{"route",
+                {{"station_stops", false},
+                 {"generator",
+                  {{"length_m", 100'000},
+                   {"curve_share", 0.0},
+                   {"grade_max_permille", 0.0},
+                   {"station", none},
+                   {"tunnel", none},
+                   {"bridge", none}}}}},
+               {"layout", {{"double_track", false}, {"auxiliary", {{"probability", 0.0}}}}}});
   const GeodeticPoint origin{43.7228, 10.3966, 50.0};
   const GeodeticAnchor anchor(origin);
   const inertial::Earth earth(origin, true);
@@ -72,8 +72,8 @@ TEST(RouteOnEarth, LatitudeLongitudeRouteRunsAtItsGivenHeight) {
   {
     std::ofstream out(file);
     out << "latitude_deg,longitude_deg,height_m\n";
-    for (const Eigen::Vector2d& en : {Eigen::Vector2d(0, 0), Eigen::Vector2d(20'000, 3'000),
-                                      Eigen::Vector2d(45'000, -4'000)}) {
+    for (const Eigen::Vector2d& en :
+         {Eigen::Vector2d(0, 0), Eigen::Vector2d(20'000, 3'000), Eigen::Vector2d(45'000, -4'000)}) {
       const GeodeticPoint p = anchor.fromAzimuthalEquidistant(en, 50.0);
       out << fmt::format("{:.12f},{:.12f},50\n", p.latitude_deg, p.longitude_deg);
     }

@@ -61,11 +61,12 @@ TEST(EarthPlacement, LevelStraightIsAGeodesicAtConstantHeight) {
 // Earth-centred magnitudes, over 2h), on a clothoid into a curve with a grade, 80 km out.
 TEST(EarthPlacement, DerivativesMatchFiniteDifferencesOfPositions) {
   const GeodeticPoint anchor{52.0, 5.0, 20.0};
-  VerticalProfile v = VerticalProfile::fromPvis({{0, 0, 0}, {80'000, 0.008, 20000}, {90'000, 0.0, 0}});
-  const Track t = placed({HorizontalElement::straight(80'000),
-                          HorizontalElement::transition(150, 0, 1.0 / 600),
-                          HorizontalElement::arc(400, 600)},
-                         0.3, anchor, v);
+  VerticalProfile v =
+      VerticalProfile::fromPvis({{0, 0, 0}, {80'000, 0.008, 20000}, {90'000, 0.0, 0}});
+  const Track t =
+      placed({HorizontalElement::straight(80'000), HorizontalElement::transition(150, 0, 1.0 / 600),
+              HorizontalElement::arc(400, 600)},
+             0.3, anchor, v);
   const double h = 0.05;
   double worst1 = 0, worst2 = 0;
   for (double u = 79'000; u < 80'500; u += 37.3) {

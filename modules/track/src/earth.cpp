@@ -58,8 +58,8 @@ double EarthPlacement::designAzimuth(const HorizontalAlignment& horizontal, doub
 }
 
 EarthPlacement::State EarthPlacement::advance(const HorizontalAlignment& horizontal,
-                                              const VerticalProfile& vertical, State y,
-                                              double s, double to) const {
+                                              const VerticalProfile& vertical, State y, double s,
+                                              double to) const {
   const double span = s - y.s;
   if (span == 0.0)
     return y;

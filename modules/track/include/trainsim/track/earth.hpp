@@ -44,15 +44,14 @@ class EarthPlacement {
                     up = Eigen::Vector3d::UnitZ();  ///< local ENU axes at the point
     double azimuth_rad = 0.0;                       ///< from north, clockwise
     double latitude_rad = 0.0, longitude_rad = 0.0, height_m = 0.0;
-    double normal_curvature_1_m = 0.0;  ///< of the level surface along the track
+    double normal_curvature_1_m = 0.0;                ///< of the level surface along the track
     Eigen::Vector3d up_d1 = Eigen::Vector3d::Zero();  ///< d(up)/ds
     Eigen::Vector3d up_d2 = Eigen::Vector3d::Zero();  ///< d²(up)/ds² (its O(1/R²) part left out)
     /// Unit vectors along the track (horizontal) and to its left (horizontal).
     Eigen::Vector3d along() const;
     Eigen::Vector3d left() const;
   };
-  Point at(const HorizontalAlignment& horizontal, const VerticalProfile& vertical,
-           double s) const;
+  Point at(const HorizontalAlignment& horizontal, const VerticalProfile& vertical, double s) const;
 
   const GeodeticPoint& anchor() const { return anchor_; }
 
@@ -62,8 +61,8 @@ class EarthPlacement {
   };
   // Integrates from `from` to s in the number of steps that the knot interval [from.s, to]
   // takes.
-  State advance(const HorizontalAlignment& horizontal, const VerticalProfile& vertical,
-                State from, double s, double to) const;
+  State advance(const HorizontalAlignment& horizontal, const VerticalProfile& vertical, State from,
+                double s, double to) const;
   double designAzimuth(const HorizontalAlignment& horizontal, double s) const;
 
   GeodeticPoint anchor_;
