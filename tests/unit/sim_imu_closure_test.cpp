@@ -181,6 +181,7 @@ class ImuClosure : public ::testing::Test {
         nav.stepMeans(vec(r, 1), vec(r, 4), T);
       const double e = (nav.position() - std::get<0>(truth(static_cast<TimeNs>(r[0])))).norm();
       out.max_m = std::max(out.max_m, e);
+      out.end_m = e;
     }
     out.run_m = traj.at(traj.endTime()).distance_m - traj.at(0).distance_m;
     return out;

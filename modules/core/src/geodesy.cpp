@@ -12,6 +12,28 @@
 
 namespace trainsim {
 
+namespace {
+double wgs84E2() {
+  const double f = GeographicLib::Constants::WGS84_f();
+  return f * (2.0 - f);
+}
+}  // namespace
+
+EllipsoidRadii wgs84Radii(double lat) {
+  static const double e2 = wgs84E2();
+  const double s = std::sin(lat);
+  const double w2 = 1.0 - e2 * s * s;
+  const double n = GeographicLib::Constants::WGS84_a() / std::sqrt(w2);
+  return {n * (1.0 - e2) / w2, n};
+}
+
+Eigen::Vector3d wgs84Ecef(double lat, double lon, double h) {
+  static const double e2 = wgs84E2();
+  const double n = wgs84Radii(lat).prime_vertical_m;
+  return {(n + h) * std::cos(lat) * std::cos(lon), (n + h) * std::cos(lat) * std::sin(lon),
+          (n * (1.0 - e2) + h) * std::sin(lat)};
+}
+
 Eigen::Vector3d enuToNed(const Eigen::Vector3d& p_enu) {
   return {p_enu.y(), p_enu.x(), -p_enu.z()};
 }
@@ -75,11 +97,8 @@ GeodeticPoint GeodeticAnchor::fromEnu(const Eigen::Vector3d& p_enu) const {
 }
 
 double GeodeticAnchor::gaussianRadius() const {
-  const GeographicLib::Geodesic& g = GeographicLib::Geodesic::WGS84();
-  const double e2 = g.Flattening() * (2.0 - g.Flattening());
-  const double s = std::sin(origin_.latitude_deg * std::numbers::pi / 180.0);
-  const double w2 = 1.0 - e2 * s * s;
-  return g.EquatorialRadius() * std::sqrt(1.0 - e2) / w2;
+  const EllipsoidRadii r = wgs84Radii(origin_.latitude_deg * std::numbers::pi / 180.0);
+  return std::sqrt(r.meridian_m * r.prime_vertical_m);
 }
 
 Eigen::Vector2d GeodeticAnchor::toAzimuthalEquidistant(double lat, double lon) const {

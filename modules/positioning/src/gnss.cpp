@@ -50,23 +50,25 @@ void GnssErrorModel::restore(const nlohmann::json& state) {
 GnssVisibility::GnssVisibility(std::vector<std::pair<double, double>> tunnels, TimeNs reacquisition)
     : tunnels_(std::move(tunnels)), reacquisition_(reacquisition) {}
 
+std::vector<std::pair<double, double>>::const_iterator GnssVisibility::firstEndingFrom(
+    double c) const {
+  return std::lower_bound(tunnels_.begin(), tunnels_.end(), c,
+                          [](const auto& tunnel, double x) { return tunnel.second < x; });
+}
+
 bool GnssVisibility::inTunnel(double c) const {
-  // The first tunnel ending at or after c.
-  const auto it = std::lower_bound(tunnels_.begin(), tunnels_.end(), c,
-                                   [](const auto& tunnel, double x) { return tunnel.second < x; });
+  const auto it = firstEndingFrom(c);
   return it != tunnels_.end() && it->first <= c;
 }
 
 bool GnssVisibility::fix(TimeNs t, const std::function<double(TimeNs)>& antenna_chainage) const {
   const double c = antenna_chainage(t);
-  if (inTunnel(c))
-    return false;
-  // The last tunnel that ends before c.
-  const auto it = std::lower_bound(tunnels_.begin(), tunnels_.end(), c,
-                                   [](const auto& tunnel, double x) { return tunnel.second < x; });
+  const auto it = firstEndingFrom(c);
+  if (it != tunnels_.end() && it->first <= c)
+    return false;  // inside
   if (it == tunnels_.begin() || reacquisition_ <= 0)
-    return true;
-  // Left it at least `reacquisition` ago iff it was already past its end back then.
+    return true;  // no tunnel behind
+  // Left the last one behind at least `reacquisition` ago iff already past its end back then.
   return antenna_chainage(t - reacquisition_) > std::prev(it)->second;
 }
 

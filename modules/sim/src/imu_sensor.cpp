@@ -341,10 +341,15 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
     ImuTruthReading out;
     out.t_ns = k * trajectory_.samplePeriod();
     const TimeNs t0 = out.t_ns - period_;
+    std::optional<ImuInstant> now;  // at t_ns, evaluated once if needed
+    const auto at_end = [&]() -> const ImuInstant& {
+      if (!now)
+        now = instant(out.t_ns);
+      return *now;
+    };
     if (sampling_ == ImuSampling::kInstantaneous) {
-      const ImuInstant now = instant(out.t_ns);
-      out.truth = now.truth;
-      out.field = now.field;
+      out.truth = at_end().truth;
+      out.field = at_end().field;
     }
     if (sampling_ == ImuSampling::kInstantaneous && !increments_)
       return out;
@@ -386,7 +391,7 @@ class ImuSensor final : public SensorOf<ImuTruthReading> {
     if (increments_) {
       // Δθ: the rotation vector of R_is(t0)ᵀ R_is(t1), exact (coning included).
       const Eigen::Quaterniond q =
-          (q0 * earthTurn(period_s) * instant(out.t_ns).q_world_sensor).normalized();
+          (q0 * earthTurn(period_s) * at_end().q_world_sensor).normalized();
       const Eigen::AngleAxisd aa(q.w() < 0 ? Eigen::Quaterniond(-q.coeffs()) : q);
       out.dtheta = aa.angle() * aa.axis();
     }

@@ -7,28 +7,8 @@
 namespace trainsim::track {
 namespace {
 
-// WGS-84 (NIMA TR8350.2): semi-major axis and flattening.
-constexpr double kA = 6378137.0;
-constexpr double kF = 1.0 / 298.257223563;
-constexpr double kE2 = kF * (2.0 - kF);
 constexpr double kMaxStep_m = 5.0;
 constexpr double kMaxTurn_rad = 0.03;  // design heading change per RK4 step
-
-struct Radii {
-  double m, n;  // meridian and prime-vertical radii of curvature
-};
-Radii radii(double lat) {
-  const double s = std::sin(lat);
-  const double w2 = 1.0 - kE2 * s * s;
-  const double n = kA / std::sqrt(w2);
-  return {n * (1.0 - kE2) / w2, n};
-}
-
-Eigen::Vector3d ecef(double lat, double lon, double h) {
-  const Radii r = radii(lat);
-  return {(r.n + h) * std::cos(lat) * std::cos(lon), (r.n + h) * std::cos(lat) * std::sin(lon),
-          (r.n * (1.0 - kE2) + h) * std::sin(lat)};
-}
 
 // Columns: east, north, up of the local frame at (lat, lon), in ECEF.
 Eigen::Matrix3d ecefFromEnu(double lat, double lon) {
@@ -74,10 +54,11 @@ EarthPlacement::State EarthPlacement::advance(const HorizontalAlignment& horizon
   const auto f = [&](double at, const Eigen::Vector3d& v) {
     const double azimuth = designAzimuth(horizontal, at) + v.z();
     const double height = h0 + vertical.at(at).z_m;
-    const Radii r = radii(v.x());
+    const EllipsoidRadii r = wgs84Radii(v.x());
     const double sa = std::sin(azimuth), ca = std::cos(azimuth);
-    return Eigen::Vector3d(ca / (r.m + height), sa / ((r.n + height) * std::cos(v.x())),
-                           sa * std::tan(v.x()) / (r.n + height));
+    return Eigen::Vector3d(ca / (r.meridian_m + height),
+                           sa / ((r.prime_vertical_m + height) * std::cos(v.x())),
+                           sa * std::tan(v.x()) / (r.prime_vertical_m + height));
   };
   Eigen::Vector3d v(y.lat, y.lon, y.delta);
   double at = y.s;
@@ -108,7 +89,7 @@ EarthPlacement::EarthPlacement(const HorizontalAlignment& horizontal,
     azimuth0_ = frame.azimuthOfProjectedDirection(start.position_m, heading0_);
   }
   const double lat0 = anchor.latitude_deg * deg, lon0 = anchor.longitude_deg * deg;
-  ecef0_ = ecef(lat0, lon0, anchor.height_m);
+  ecef0_ = wgs84Ecef(lat0, lon0, anchor.height_m);
   r_world_ecef_ = ecefFromEnu(lat0, lon0).transpose();
 
   // Knots at every element start and at most knot_spacing_m apart.
@@ -138,13 +119,13 @@ EarthPlacement::Point EarthPlacement::at(const HorizontalAlignment& horizontal,
   p.longitude_rad = y.lon;
   p.height_m = anchor_.height_m + vertical.at(s).z_m;
   p.azimuth_rad = designAzimuth(horizontal, s) + y.delta;
-  p.position = r_world_ecef_ * (ecef(y.lat, y.lon, p.height_m) - ecef0_);
+  p.position = r_world_ecef_ * (wgs84Ecef(y.lat, y.lon, p.height_m) - ecef0_);
   const Eigen::Matrix3d enu = r_world_ecef_ * ecefFromEnu(y.lat, y.lon);
   p.east = enu.col(0);
   p.north = enu.col(1);
   p.up = enu.col(2);
-  const Radii r = radii(y.lat);
-  const double mh = r.m + p.height_m, nh = r.n + p.height_m;
+  const EllipsoidRadii r = wgs84Radii(y.lat);
+  const double mh = r.meridian_m + p.height_m, nh = r.prime_vertical_m + p.height_m;
   const double sa = std::sin(p.azimuth_rad), ca = std::cos(p.azimuth_rad);
   p.normal_curvature_1_m = sa * sa / nh + ca * ca / mh;
   // The up vector turns with the ground: d(up)/ds = e sin α/(N+h) + n cos α/(M+h); along a

@@ -175,14 +175,15 @@ double HorizontalAlignment::curvatureAt(double s) const {
   return elements_[i].curvature(s - s_start_[i]);
 }
 
-HorizontalState HorizontalAlignment::at(double s) const {
+HorizontalState HorizontalAlignment::at(double s, bool with_position) const {
   s = std::clamp(s, 0.0, length());
   const std::size_t i = elementAt(s);
   const HorizontalElement& e = elements_[i];
   const double local = std::min(s - s_start_[i], e.length_m);
   HorizontalState st;
   st.heading_rad = heading_start_[i] + e.headingChange(local);
-  st.position_m = p_start_[i] + offset(e, heading_start_[i], local);
+  if (with_position)
+    st.position_m = p_start_[i] + offset(e, heading_start_[i], local);
   st.curvature_1_m = e.curvature(local);
   st.curvature_rate_1_m2 = e.curvatureRate(local);
   return st;

@@ -127,8 +127,9 @@ double MotionProfile::timeAtDistance(double u) const {
     const double d = s.duration_s;
     return s.u0_m + s.v0_m_s * d + s.a0_m_s2 * d * d / 2.0 + s.jerk_m_s3 * d * d * d / 6.0;
   };
-  const auto it = std::find_if(segments_.begin(), segments_.end(),
-                               [&](const MotionSegment& s) { return end_u(s) >= u; });
+  // Segment ends are non-decreasing in u: the first segment that reaches u.
+  const auto it = std::partition_point(segments_.begin(), segments_.end(),
+                                       [&](const MotionSegment& s) { return end_u(s) < u; });
   if (it == segments_.end())
     return duration();
   double lo = 0.0, hi = it->duration_s;

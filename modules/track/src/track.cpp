@@ -65,7 +65,7 @@ Track::Roll Track::rollAtDistance(double u) const {
 }
 
 TrackPoint Track::atChainage(double s) const {
-  const HorizontalState h = horizontal_.at(s);
+  const HorizontalState h = horizontal_.at(s, /*with_position=*/!earth_);
   const VerticalState v = vertical_.at(s);
   const CantState d = cant_.at(s);
   TrackPoint p;

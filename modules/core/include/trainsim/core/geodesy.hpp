@@ -14,6 +14,15 @@ struct GeodeticPoint {
   double height_m = 0.0;
 };
 
+/// WGS-84 radii of curvature at geodetic latitude φ (rad): meridian M and prime vertical N.
+struct EllipsoidRadii {
+  double meridian_m = 0.0;
+  double prime_vertical_m = 0.0;
+};
+EllipsoidRadii wgs84Radii(double latitude_rad);
+/// Earth-centred, Earth-fixed position (m) of a geodetic point given in radians and metres.
+Eigen::Vector3d wgs84Ecef(double latitude_rad, double longitude_rad, double height_m);
+
 /// Local tangent frames used by TrainSim.
 ///
 /// The world frame is ENU (x east, y north, z up) at the scenario's geodetic anchor; route

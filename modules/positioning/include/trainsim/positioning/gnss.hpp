@@ -75,6 +75,9 @@ class GnssVisibility {
   bool fix(TimeNs t, const std::function<double(TimeNs)>& antenna_chainage) const;
 
  private:
+  // The first tunnel that ends at or after chainage c.
+  std::vector<std::pair<double, double>>::const_iterator firstEndingFrom(double c) const;
+
   std::vector<std::pair<double, double>> tunnels_;
   TimeNs reacquisition_;
 };

@@ -78,8 +78,10 @@ class HorizontalAlignment {
   /// Curvature at chainage s (the later element's at a joint), clamped like at().
   double curvatureAt(double s) const;
 
-  /// State at chainage s; s is clamped to [0, length()]. Thread-safe.
-  HorizontalState at(double s) const;
+  /// State at chainage s; s is clamped to [0, length()]. Thread-safe. Without
+  /// `with_position` the position (quadrature in transitions) is left at zero: what a track
+  /// laid on the Earth needs, which places itself (EarthPlacement).
+  HorizontalState at(double s, bool with_position = true) const;
 
  private:
   Eigen::Vector2d offset(const HorizontalElement& e, double heading0, double s) const;
