@@ -68,10 +68,12 @@ std::unique_ptr<PlanSnapshot> buildSnapshot(const scenario::Scenario& scenario,
   snap->train_length_m = sim::trainSection().read(scenario.json()).limits.train_length_m;
 
   for (const track::LayoutTrack& t : plan.layout().tracks) {
-    TrackLine line{t.id, t.kind, t.polyline, {}};
-    line.segment_type.reserve(t.polyline.size());
-    for (std::size_t i = 0; i + 1 < t.polyline.size(); ++i)
-      line.segment_type.push_back(typeAt(t, 0.5 * (t.distance_m[i] + t.distance_m[i + 1])));
+    track::Polyline polyline = track::samplePolyline(plan.route().route.track, t);
+    TrackLine line{t.id, t.kind, std::move(polyline.points), {}};
+    line.segment_type.reserve(line.points.size());
+    for (std::size_t i = 0; i + 1 < line.points.size(); ++i)
+      line.segment_type.push_back(
+          typeAt(t, 0.5 * (polyline.distance_m[i] + polyline.distance_m[i + 1])));
     snap->tracks.push_back(std::move(line));
   }
 

@@ -44,10 +44,9 @@ Frame frameOf(const Eigen::Vector2d& start, double heading) {
   return {start, {std::cos(heading), std::sin(heading)}, {-std::sin(heading), std::cos(heading)}};
 }
 
-std::size_t indexAt(const LayoutTrack& track, double distance) {
-  const auto it =
-      std::lower_bound(track.distance_m.begin(), track.distance_m.end(), distance - 1e-9);
-  return static_cast<std::size_t>(it - track.distance_m.begin());
+std::size_t indexAt(const Polyline& line, double distance) {
+  const auto it = std::lower_bound(line.distance_m.begin(), line.distance_m.end(), distance - 1e-9);
+  return static_cast<std::size_t>(it - line.distance_m.begin());
 }
 
 double blockLength(const LayoutBlock& b) {
@@ -90,7 +89,8 @@ TEST(Layout, TurnoutConnectionReachesTrackCentreDistanceAndTurnsBackParallel) {
   ASSERT_EQ(aux.turnout_ranges_m.size(), 2u);
 
   const Frame f = frameOf(start, heading);
-  const std::vector<Eigen::Vector3d>& pl = aux.polyline;
+  const Polyline line = samplePolyline(route.track, aux);
+  const std::vector<Eigen::Vector3d>& pl = line.points;
   // Entering: leaves the main track tangentially on a circle of radius R ...
   const Eigen::Vector2d toe = f.local(pl.front());
   EXPECT_NEAR(toe.y(), 0.0, 1e-9);
@@ -112,7 +112,7 @@ TEST(Layout, TurnoutConnectionReachesTrackCentreDistanceAndTurnsBackParallel) {
   EXPECT_EQ(aux.blocks[1].type, LayoutBlockType::kCurve);
   EXPECT_EQ(aux.blocks[2].type, LayoutBlockType::kParallel);
   // ... and reaches exactly d, parallel to the main track, L_x further on.
-  const std::size_t i_end = indexAt(aux, aux.turnout_ranges_m[0].second);
+  const std::size_t i_end = indexAt(line, aux.turnout_ranges_m[0].second);
   const Eigen::Vector2d end = f.local(pl[i_end]);
   EXPECT_NEAR(end.y(), kD, 1e-9);
   EXPECT_NEAR(end.x() - toe.x(), lx, 1e-9);
@@ -121,17 +121,18 @@ TEST(Layout, TurnoutConnectionReachesTrackCentreDistanceAndTurnsBackParallel) {
   // The parallel part stays at d; the track is level at the main track's height.
   for (std::size_t i = i_end; i < pl.size(); ++i) {
     EXPECT_NEAR(pl[i].z(), 12.0, 1e-12);
-    if (aux.distance_m[i] > aux.turnout_ranges_m[1].first + 1e-9)
+    if (line.distance_m[i] > aux.turnout_ranges_m[1].first + 1e-9)
       break;
     EXPECT_NEAR(f.local(pl[i]).y(), kD, 1e-9);
   }
   // Outgoing: the mirror image, ending on the main track.
   EXPECT_EQ(aux.blocks.back().type, LayoutBlockType::kTurnout);
   EXPECT_EQ(aux.blocks.back().part, TrackPart::kOutgoing);
-  const std::size_t i_out = indexAt(aux, aux.turnout_ranges_m[1].first);
+  const std::size_t i_out = indexAt(line, aux.turnout_ranges_m[1].first);
   EXPECT_NEAR(f.local(pl.back()).y(), 0.0, 1e-9);
   EXPECT_NEAR(f.local(pl.back()).x() - f.local(pl[i_out]).x(), lx, 1e-9);
-  EXPECT_NEAR(aux.turnout_ranges_m[1].second, aux.distance_m.back(), 1e-12);
+  EXPECT_NEAR(aux.turnout_ranges_m[1].second, line.distance_m.back(), 1e-12);
+  EXPECT_NEAR(aux.length_m(), line.distance_m.back(), 1e-12);
   EXPECT_NEAR(aux.main_chainage_end_m - aux.main_chainage_begin_m,
               2.0 * lx + (aux.turnout_ranges_m[1].first - aux.turnout_ranges_m[0].second), 1e-6);
 }
@@ -160,14 +161,15 @@ TEST(Layout, DeadEndLiesOutsideTheParallelPart) {
   EXPECT_NEAR(blockLength(aux.blocks[0]), dead_end, 1e-9);
   EXPECT_NEAR(blockLength(aux.blocks[4]), dead_end, 1e-9);
   const Frame f = frameOf(start, heading);
+  const Polyline line = samplePolyline(route.track, aux);
   const double buffer = -2.0 * kD - (dead_end * std::sin(alpha) + r * (1.0 - std::cos(alpha)));
-  EXPECT_NEAR(f.local(aux.polyline.front()).y(), buffer, 1e-9);
-  EXPECT_NEAR(f.local(aux.polyline.back()).y(), buffer, 1e-9);
-  const std::size_t i = indexAt(aux, aux.blocks[2].begin_m);
-  EXPECT_NEAR(f.local(aux.polyline[i]).y(), -2.0 * kD, 1e-9);
-  const Eigen::Vector2d step = f.local(aux.polyline[i + 1]) - f.local(aux.polyline[i]);
+  EXPECT_NEAR(f.local(line.points.front()).y(), buffer, 1e-9);
+  EXPECT_NEAR(f.local(line.points.back()).y(), buffer, 1e-9);
+  const std::size_t i = indexAt(line, aux.blocks[2].begin_m);
+  EXPECT_NEAR(f.local(line.points[i]).y(), -2.0 * kD, 1e-9);
+  const Eigen::Vector2d step = f.local(line.points[i + 1]) - f.local(line.points[i]);
   EXPECT_NEAR(std::atan2(step.y(), step.x()), 0.0, 1e-9);
-  EXPECT_TRUE(checkClearance(layout, kD).empty());
+  EXPECT_TRUE(checkClearance(route.track, layout, kD).empty());
 }
 
 TEST(Layout, DoubleTrackIsTheNormalOffsetOnTheRight) {
@@ -191,21 +193,23 @@ TEST(Layout, DoubleTrackIsTheNormalOffsetOnTheRight) {
   }
   const HorizontalAlignment& h = route.track.horizontal();
   bool curved = false;
-  for (const LayoutTrack* t : {&main, &dbl}) {
-    ASSERT_EQ(t->polyline.size(), t->distance_m.size());
-    for (std::size_t i = 1; i < t->polyline.size(); ++i)
-      ASSERT_LE((t->polyline[i] - t->polyline[i - 1]).norm(), p.polyline_spacing_m + 1e-12);
+  const Polyline main_line = samplePolyline(route.track, main);
+  const Polyline dbl_line = samplePolyline(route.track, dbl);
+  for (const Polyline* t : {&main_line, &dbl_line}) {
+    ASSERT_EQ(t->points.size(), t->distance_m.size());
+    for (std::size_t i = 1; i < t->points.size(); ++i)
+      ASSERT_LE((t->points[i] - t->points[i - 1]).norm(), p.polyline_spacing_m + 1e-12);
   }
   // Nearest point of the exact main centreline (golden-section search on chainage around the
   // nearest main polyline point): at distance d, on the right, at the same height.
   std::size_t j = 0;
-  for (const Eigen::Vector3d& q : dbl.polyline) {
-    while (j + 1 < main.polyline.size() &&
-           (main.polyline[j + 1] - q).norm() <= (main.polyline[j] - q).norm())
+  for (const Eigen::Vector3d& q : dbl_line.points) {
+    while (j + 1 < main_line.points.size() &&
+           (main_line.points[j + 1] - q).norm() <= (main_line.points[j] - q).norm())
       ++j;
     const auto dist = [&](double s) { return (h.at(s).position_m - q.head<2>()).norm(); };
-    double a = std::max(0.0, main.distance_m[j] - 5.0);
-    double b = std::min(h.length(), main.distance_m[j] + 5.0);
+    double a = std::max(0.0, main_line.main_chainage_m[j] - 5.0);
+    double b = std::min(h.length(), main_line.main_chainage_m[j] + 5.0);
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     while (b - a > 1e-10) {
       const double c = b - g * (b - a), e = a + g * (b - a);
@@ -233,7 +237,7 @@ TEST(Layout, RandomLayoutsKeepClearanceOverManyRoutes) {
     p.aux_probability = 0.8;
     p.double_track = seed % 3 != 0;
     const Layout layout = buildLayout(route, p, seed);
-    const std::vector<ClearanceIssue> issues = checkClearance(layout, kD);
+    const std::vector<ClearanceIssue> issues = checkClearance(route.track, layout, kD);
     ASSERT_TRUE(issues.empty()) << "seed " << seed << ": track " << issues[0].track_id << " at "
                                 << issues[0].distance_along_m << " m is " << issues[0].clearance_m
                                 << " m from track " << issues[0].other_track_id;
@@ -262,13 +266,14 @@ TEST(Layout, RandomLayoutsKeepClearanceOverManyRoutes) {
       const HorizontalState s0 = h.at(t.main_chainage_begin_m);
       const Frame f = frameOf(s0.position_m, s0.heading_rad);
       int parallel_points = 0;
+      const Polyline line = samplePolyline(route.track, t);
       for (const LayoutBlock& b : t.blocks) {
         if (b.type != LayoutBlockType::kParallel)
           continue;
-        for (std::size_t k = indexAt(t, b.begin_m); k < t.polyline.size(); ++k) {
-          if (t.distance_m[k] > b.end_m + 1e-9)
+        for (std::size_t k = indexAt(line, b.begin_m); k < line.points.size(); ++k) {
+          if (line.distance_m[k] > b.end_m + 1e-9)
             break;
-          EXPECT_NEAR(f.local(t.polyline[k]).y(), t.offset_m, 1e-6);
+          EXPECT_NEAR(f.local(line.points[k]).y(), t.offset_m, 1e-6);
           ++parallel_points;
         }
       }
@@ -306,44 +311,100 @@ TEST(Layout, SameInputsGiveTheSameLayout) {
   const Layout a = buildLayout(route, p, 42), b = buildLayout(route, p, 42);
   ASSERT_EQ(a.tracks.size(), b.tracks.size());
   for (std::size_t i = 0; i < a.tracks.size(); ++i)
-    EXPECT_EQ(a.tracks[i].polyline, b.tracks[i].polyline);
+    EXPECT_EQ(samplePolyline(route.track, a.tracks[i]).points,
+              samplePolyline(route.track, b.tracks[i]).points);
 }
 
-// A hand-built layout: a straight main track along x and one auxiliary track.
-Layout handLayout(double aux_offset_m, double main_step_m) {
+// A hand-built layout: a straight level main track along x (z = 5) sampled every
+// `main_step_m`, and one auxiliary track beside it from x = 50 to 150 at `aux_offset_m`, every 2 m.
+struct HandLayout {
+  Route route = straightRoute(200.0, {0.0, 0.0}, 0.0, 5.0);
   Layout layout;
-  LayoutTrack main;
-  main.kind = TrackKind::kMain;
-  for (double x = 0.0; x <= 200.0 + 1e-9; x += main_step_m) {
-    main.polyline.emplace_back(x, 0.0, 5.0);
-    main.distance_m.push_back(x);
-  }
-  LayoutTrack aux;
-  aux.id = 1;
-  aux.kind = TrackKind::kAuxiliary;
-  for (int i = 0; i <= 50; ++i) {
-    aux.polyline.emplace_back(50.0 + 2.0 * i, aux_offset_m, 5.0);
-    aux.distance_m.push_back(2.0 * i);
-  }
-  layout.tracks = {main, aux};
-  return layout;
+};
+
+HandLayout handLayout(double aux_offset_m, double main_step_m) {
+  HandLayout h;
+  const Track& main = h.route.track;
+  h.layout.tracks = {
+      offsetTrack(main, 0, TrackKind::kMain, {OffsetPiece::line(0.0, 200.0, 0.0, 0.0)},
+                  main_step_m),
+      offsetTrack(main, 1, TrackKind::kAuxiliary,
+                  {OffsetPiece::line(50.0, 150.0, aux_offset_m, aux_offset_m)}, 2.0)};
+  return h;
+}
+
+std::vector<ClearanceIssue> clearanceOf(const HandLayout& h) {
+  return checkClearance(h.route.track, h.layout, kD);
 }
 
 TEST(Layout, ClearanceCheckFindsMisplacedTrack) {
-  EXPECT_TRUE(checkClearance(handLayout(kD, 2.0), kD).empty());
-  const std::vector<ClearanceIssue> issues = checkClearance(handLayout(0.5 * kD, 2.0), kD);
-  ASSERT_EQ(issues.size(), 51u);
+  EXPECT_TRUE(clearanceOf(handLayout(kD, 2.0)).empty());
+  const HandLayout close = handLayout(0.5 * kD, 2.0);
+  const Polyline aux = samplePolyline(close.route.track, close.layout.tracks[1]);
+  const std::size_t n = aux.points.size();
+  ASSERT_GE(n, 51u);
+  const std::vector<ClearanceIssue> issues = clearanceOf(close);
+  ASSERT_EQ(issues.size(), n);
   for (const ClearanceIssue& c : issues) {
     EXPECT_EQ(c.track_id, 1);
     EXPECT_EQ(c.other_track_id, 0);
     EXPECT_NEAR(c.clearance_m, 0.5 * kD, 1e-12);
   }
-  // Segment distance, not point distance: main points 100 m apart, none near the aux track.
-  EXPECT_EQ(checkClearance(handLayout(0.5 * kD, 100.0), kD).size(), 51u);
+  // Segment distance, not point distance: main points about 67 m apart, so that only a few
+  // auxiliary points lie within kD of one.
+  const HandLayout sparse = handLayout(0.5 * kD, 100.0);
+  ASSERT_LE(samplePolyline(sparse.route.track, sparse.layout.tracks[0]).points.size(), 4u);
+  EXPECT_EQ(clearanceOf(sparse).size(), n);
   // Points inside a turnout range are exempt.
-  Layout layout = handLayout(0.5 * kD, 2.0);
-  layout.tracks[1].turnout_ranges_m = {{0.0, 20.0}, {90.0, 100.0}};
-  EXPECT_EQ(checkClearance(layout, kD).size(), 51u - 11u - 6u);
+  HandLayout h = handLayout(0.5 * kD, 2.0);
+  h.layout.tracks[1].turnout_ranges_m = {{0.0, 20.0}, {90.0, 100.0}};
+  const auto exempt = std::count_if(aux.distance_m.begin(), aux.distance_m.end(),
+                                    [](double u) { return u <= 20.0 + 1e-9 || u >= 90.0 - 1e-9; });
+  EXPECT_GE(exempt, 15);
+  EXPECT_EQ(clearanceOf(h).size(), n - static_cast<std::size_t>(exempt));
+}
+
+// A stretch of the polyline made on demand is the same points, distances and chainages as the
+// whole polyline, and the runs' bounds hold their points.
+TEST(Layout, PolylineWindowsAgreeWithTheWholePolyline) {
+  RouteGeneratorParams g;
+  g.length_m = 6000.0;
+  const Route route = generateRoute(g, RouteOptions{}, 9).route;
+  LayoutParams p;
+  p.aux_probability = 1.0;
+  const Layout layout = buildLayout(route, p, 3);
+  for (const LayoutTrack& t : layout.tracks) {
+    const Polyline whole = samplePolyline(route.track, t);
+    std::size_t visited = 0;
+    forEachPolylinePoint(route.track, t, [&](const Eigen::Vector3d& q, double u, double x) {
+      ASSERT_LT(visited, whole.points.size());
+      EXPECT_EQ(q, whole.points[visited]);
+      EXPECT_EQ(u, whole.distance_m[visited]);
+      EXPECT_EQ(x, whole.main_chainage_m[visited]);
+      ++visited;
+    });
+    EXPECT_EQ(visited, whole.points.size());
+    EXPECT_NEAR(whole.distance_m.back(), t.length_m(), 1e-9);
+    for (const PolylineRun& r : t.runs)
+      EXPECT_LE(r.x1 - r.x0, kPolylineRunLength_m + 1e-9);
+    const double a =
+        t.main_chainage_begin_m + 0.3 * (t.main_chainage_end_m - t.main_chainage_begin_m);
+    const double b =
+        t.main_chainage_begin_m + 0.7 * (t.main_chainage_end_m - t.main_chainage_begin_m);
+    const Polyline part = samplePolyline(route.track, t, a, b);
+    ASSERT_GE(part.points.size(), 2u);
+    EXPECT_LE(part.main_chainage_m.front(), a);
+    EXPECT_GE(part.main_chainage_m.back(), b);
+    EXPECT_GT(part.main_chainage_m[1], a);
+    EXPECT_LT(part.main_chainage_m[part.points.size() - 2], b);
+    const auto first = std::find(whole.points.begin(), whole.points.end(), part.points.front());
+    ASSERT_NE(first, whole.points.end());
+    const auto offset = static_cast<std::size_t>(first - whole.points.begin());
+    for (std::size_t i = 0; i < part.points.size(); ++i) {
+      EXPECT_EQ(part.points[i], whole.points[offset + i]);
+      EXPECT_EQ(part.distance_m[i], whole.distance_m[offset + i]);
+    }
+  }
 }
 
 TEST(Layout, RejectsTrackCentreDistanceTooSmallForTurnout) {
@@ -376,11 +437,12 @@ TEST(TrackFrame, AlongEveryTrackMatchesTheTrackAndItsPolyline) {
   bool aux = false, canted = false;
   for (const LayoutTrack& t : layout.tracks) {
     aux = aux || t.kind == TrackKind::kAuxiliary;
-    ASSERT_EQ(t.main_chainage_m.size(), t.polyline.size());
-    for (std::size_t i = 0; i < t.polyline.size(); i += 7) {
-      const double x = t.main_chainage_m[i];
+    const Polyline line = samplePolyline(route.track, t);
+    ASSERT_EQ(line.main_chainage_m.size(), line.points.size());
+    for (std::size_t i = 0; i < line.points.size(); i += 7) {
+      const double x = line.main_chainage_m[i];
       const TrackFrame f = trackFrame(route.track, t, x);
-      EXPECT_LT((f.position - t.polyline[i]).norm(), 1e-9) << "track " << t.id << " point " << i;
+      EXPECT_LT((f.position - line.points[i]).norm(), 1e-9) << "track " << t.id << " point " << i;
       // Orthonormal, right-handed.
       EXPECT_NEAR(f.tangent.norm(), 1.0, 1e-12);
       EXPECT_NEAR(f.left.norm(), 1.0, 1e-12);
@@ -406,10 +468,11 @@ TEST(TrackFrame, AlongEveryTrackMatchesTheTrackAndItsPolyline) {
       }
     }
     // By distance along the polyline: the same frame at the polyline's points.
-    const std::size_t mid = t.polyline.size() / 2;
-    EXPECT_LT(
-        (trackFrameAtDistance(route.track, t, t.distance_m[mid]).position - t.polyline[mid]).norm(),
-        1e-9);
+    for (const std::size_t i :
+         {std::size_t{0}, line.points.size() / 3, line.points.size() / 2, line.points.size() - 1})
+      EXPECT_LT((trackFrameAtDistance(route.track, t, line.distance_m[i]).position - line.points[i])
+                    .norm(),
+                1e-9);
   }
   EXPECT_TRUE(aux) << "the test route should hold an auxiliary track";
   EXPECT_TRUE(canted) << "the test route should hold a canted curve";

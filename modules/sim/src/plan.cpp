@@ -185,7 +185,7 @@ std::shared_ptr<const LayoutStage> buildLayoutStage(const scenario::Scenario& sc
   const track::LayoutParams lp = layoutSection().read(sc.json());
   stage->layout = track::buildLayout(route.route.route, lp, sc.seed());
   for (const track::ClearanceIssue& c :
-       track::checkClearance(stage->layout, lp.track_centre_distance_m)) {
+       track::checkClearance(route.route.route.track, stage->layout, lp.track_centre_distance_m)) {
     stage->violations.push_back(
         {"track_clearance", 0.0, 0.0, -1, c.clearance_m, lp.track_centre_distance_m, "m",
          fmt::format("track {} comes within {:.3f} m of track {} at {:.1f} m along it", c.track_id,
@@ -280,64 +280,82 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
   return std::make_unique<Plan>(planner.plan(scenario));
 }
 
+namespace {
+
+// To the micrometre, without a negative zero.
+double micro(double v) {
+  return std::round(v * 1e6) / 1e6 + 0.0;
+}
+
+}  // namespace
+
 void writeRailroadJson(const Plan& plan, const TextSink& sink) {
-  // Streamed: the small parts through nlohmann::json, each polyline point by point, so no
-  // document of the whole layout is ever held in memory.
-  nlohmann::json main_blocks = nlohmann::json::array();
-  for (const track::Block& b : plan.route().route.blocks) {
-    main_blocks.push_back({{"id", b.id},
-                           {"type", nameOf(b.type)},
-                           {"chainage_begin_m", b.chainage_begin_m},
-                           {"chainage_end_m", b.chainage_end_m},
-                           {"speed_limit_m_s", b.speed_limit_m_s},
-                           {"radius_m", b.radius_m},
-                           {"cant_m", b.cant_m},
-                           {"stop", b.stop}});
-  }
+  // Streamed: each block and track head through nlohmann::json, each polyline point by point,
+  // so no document of the whole layout (nor of the route's blocks) is ever held in memory.
   const nlohmann::json head = {
       {"format", "trainsim-railroad"},
       {"frame",
        "world: the Earth-fixed ENU frame tangent to the WGS-84 ellipsoid at geodetic_origin, "
        "metres (not a map plane: z drops by d^2/2R with the distance d from the origin)"},
-      {"main_track", {{"length_m", plan.route().route.track.length()}, {"blocks", main_blocks}}}};
+      {"main_track", {{"length_m", plan.route().route.track.length()}}}};
   std::string text = head.dump(1);
-  text.pop_back();  // the closing brace: the tracks follow
-  text += ",\n \"tracks\": [";
+  // Reopen main_track (its closing brace and the document's) to add its blocks.
+  text.erase(text.rfind('}'));
+  text.erase(text.rfind('}'));
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+    text.pop_back();
+  text += ",\n  \"blocks\": [";
   sink(text);
+  const auto& route_blocks = plan.route().route.blocks;
+  for (std::size_t i = 0; i < route_blocks.size(); ++i) {
+    const track::Block& b = route_blocks[i];
+    const nlohmann::json jb = {{"id", b.id},
+                               {"type", nameOf(b.type)},
+                               {"chainage_begin_m", b.chainage_begin_m},
+                               {"chainage_end_m", b.chainage_end_m},
+                               {"speed_limit_m_s", b.speed_limit_m_s},
+                               {"radius_m", b.radius_m},
+                               {"cant_m", b.cant_m},
+                               {"stop", b.stop}};
+    sink(fmt::format("{}\n   {}", i == 0 ? "" : ",", jb.dump()));
+  }
+  sink("\n  ]\n },\n \"tracks\": [");
   const auto& tracks = plan.layout().tracks;
   for (std::size_t i = 0; i < tracks.size(); ++i) {
     const track::LayoutTrack& t = tracks[i];
-    nlohmann::json blocks = nlohmann::json::array();
-    for (const track::LayoutBlock& b : t.blocks) {
+    // The track's keys in nlohmann's (sorted) order, its blocks ("blocks" sorts first) one by
+    // one, then the polyline.
+    sink(fmt::format("{}\n  {{\"blocks\":[", i == 0 ? "" : ","));
+    for (std::size_t k = 0; k < t.blocks.size(); ++k) {
+      const track::LayoutBlock& b = t.blocks[k];
       nlohmann::json jb = {{"type", nameOf(b.type)}, {"begin_m", b.begin_m}, {"end_m", b.end_m}};
       if (b.part != track::TrackPart::kWhole)
         jb["part"] = nameOf(b.part);
       if (b.main_block_id >= 0)
         jb["main_block_id"] = b.main_block_id;
-      blocks.push_back(std::move(jb));
+      sink(k == 0 ? jb.dump() : "," + jb.dump());
     }
     nlohmann::json jt = {{"id", t.id},
                          {"kind", nameOf(t.kind)},
                          {"offset_m", t.offset_m},
                          {"main_chainage_begin_m", t.main_chainage_begin_m},
-                         {"main_chainage_end_m", t.main_chainage_end_m},
-                         {"blocks", blocks}};
+                         {"main_chainage_end_m", t.main_chainage_end_m}};
     if (t.joins_track >= 0)
       jt["joins_track"] = t.joins_track;
     text = jt.dump();
-    text.pop_back();
-    sink(fmt::format("{}\n  {},\"polyline_m\":[", i == 0 ? "" : ",", text));
+    sink(fmt::format("],{},\"polyline_m\":[", std::string_view(text).substr(1, text.size() - 2)));
     fmt::memory_buffer points;
-    for (std::size_t k = 0; k < t.polyline.size(); ++k) {
-      const Eigen::Vector3d& p = t.polyline[k];
-      fmt::format_to(std::back_inserter(points), "{}\n   [{},{},{}]", k == 0 ? "" : ",",
-                     std::round(p.x() * 1e6) / 1e6, std::round(p.y() * 1e6) / 1e6,
-                     std::round(p.z() * 1e6) / 1e6);
-      if (points.size() > (1u << 16)) {
-        sink({points.data(), points.size()});
-        points.clear();
-      }
-    }
+    bool first = true;
+    track::forEachPolylinePoint(
+        plan.route().route.track, t, [&](const Eigen::Vector3d& p, double, double) {
+          fmt::format_to(std::back_inserter(points), "{}\n   [{},{},{}]", first ? "" : ",",
+                         micro(p.x()), micro(p.y()), micro(p.z()));
+          first = false;
+          if (points.size() > (1u << 16)) {
+            sink({points.data(), points.size()});
+            points.clear();
+          }
+        });
     sink({points.data(), points.size()});
     sink("]}");
   }

@@ -1,6 +1,8 @@
 #include "trainsim/track/earth.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -73,10 +75,31 @@ EarthPlacement::State EarthPlacement::advance(const HorizontalAlignment& horizon
   return {s, v.x(), v.y(), v.z()};
 }
 
+EarthPlacement::State EarthPlacement::nextKnot(const HorizontalAlignment& horizontal,
+                                               const VerticalProfile& vertical, const State& y,
+                                               std::uint32_t& element, std::uint32_t& k) const {
+  const auto subdivisions = [&](std::uint32_t i) {
+    const double a = horizontal.elementStart(i), b = horizontal.elementStart(i + 1);
+    return std::max(1, static_cast<int>(std::ceil((b - a) / knot_spacing_m_)));
+  };
+  if (k == 0 || static_cast<int>(k) == subdivisions(element)) {
+    if (k != 0)
+      ++element;
+    k = 0;
+  }
+  ++k;
+  const int n = subdivisions(element);
+  const double a = horizontal.elementStart(element), b = horizontal.elementStart(element + 1);
+  const double s = static_cast<int>(k) == n ? b : a + (b - a) * static_cast<int>(k) / n;
+  return advance(horizontal, vertical, y, s, s);
+}
+
 EarthPlacement::EarthPlacement(const HorizontalAlignment& horizontal,
                                const VerticalProfile& vertical, const GeodeticPoint& anchor,
                                double knot_spacing_m)
-    : anchor_(anchor) {
+    : anchor_(anchor), knot_spacing_m_(knot_spacing_m) {
+  static std::atomic<std::uint64_t> next_id{1};
+  id_ = next_id.fetch_add(1, std::memory_order_relaxed);
   const double deg = std::numbers::pi / 180.0;
   const GeodeticAnchor frame(anchor);
   const HorizontalState start = horizontal.at(0.0);
@@ -92,27 +115,63 @@ EarthPlacement::EarthPlacement(const HorizontalAlignment& horizontal,
   ecef0_ = wgs84Ecef(lat0, lon0, anchor.height_m);
   r_world_ecef_ = ecefFromEnu(lat0, lon0).transpose();
 
-  // Knots at every element start and at most knot_spacing_m apart.
+  // Knots at every element start and at most knot_spacing_m apart, of which every
+  // kKnotsPerChunk-th is kept.
+  std::size_t total = 1;
+  for (std::size_t i = 0; i < horizontal.elements().size(); ++i)
+    total += static_cast<std::size_t>(std::max(
+        1, static_cast<int>(std::ceil(
+               (horizontal.elementStart(i + 1) - horizontal.elementStart(i)) / knot_spacing_m))));
+  knot_count_ = total;
+  anchors_.reserve((total - 1) / kKnotsPerChunk + 1);
   State y{0.0, g.latitude_deg * deg, g.longitude_deg * deg, 0.0};
-  knots_.push_back(y);
-  const auto& elements = horizontal.elements();
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const double a = horizontal.elementStart(i), b = horizontal.elementStart(i + 1);
-    const int n = std::max(1, static_cast<int>(std::ceil((b - a) / knot_spacing_m)));
-    for (int k = 1; k <= n; ++k) {
-      const double s = k == n ? b : a + (b - a) * k / n;
-      y = advance(horizontal, vertical, y, s, s);
-      knots_.push_back(y);
-    }
+  std::uint32_t element = 0, k = 0;
+  anchors_.push_back({y, element, k});
+  for (std::size_t j = 1; j < total; ++j) {
+    y = nextKnot(horizontal, vertical, y, element, k);
+    if (j % kKnotsPerChunk == 0)
+      anchors_.push_back({y, element, k});
   }
+}
+
+const std::vector<EarthPlacement::State>& EarthPlacement::chunk(
+    const HorizontalAlignment& horizontal, const VerticalProfile& vertical, std::size_t c) const {
+  // A few chunks per thread: a trajectory's pivots and wheelsets straddle at most two.
+  struct Entry {
+    std::uint64_t owner = 0;
+    std::size_t chunk = 0;
+    std::vector<State> knots;
+  };
+  thread_local std::array<Entry, 4> cache;
+  thread_local std::size_t next = 0;
+  for (Entry& e : cache)
+    if (e.owner == id_ && e.chunk == c)
+      return e.knots;
+  Entry& e = cache[next];
+  next = (next + 1) % cache.size();
+  e.owner = id_;
+  e.chunk = c;
+  const Anchor& a = anchors_[c];
+  const std::size_t first = c * kKnotsPerChunk;
+  const std::size_t count = std::min(kKnotsPerChunk + 1, knot_count_ - first);
+  e.knots.assign(1, a.state);
+  std::uint32_t element = a.element, k = a.k;
+  while (e.knots.size() < count)
+    e.knots.push_back(nextKnot(horizontal, vertical, e.knots.back(), element, k));
+  return e.knots;
 }
 
 EarthPlacement::Point EarthPlacement::at(const HorizontalAlignment& horizontal,
                                          const VerticalProfile& vertical, double s) const {
-  const auto it = std::upper_bound(knots_.begin(), knots_.end(), s,
+  const auto anchor = std::upper_bound(anchors_.begin(), anchors_.end(), s,
+                                       [](double x, const Anchor& a) { return x < a.state.s; });
+  const std::size_t c =
+      anchor == anchors_.begin() ? 0 : static_cast<std::size_t>(anchor - anchors_.begin()) - 1;
+  const std::vector<State>& knots = chunk(horizontal, vertical, c);
+  const auto it = std::upper_bound(knots.begin(), knots.end(), s,
                                    [](double x, const State& k) { return x < k.s; });
-  const auto from = it == knots_.begin() ? knots_.begin() : it - 1;
-  const double to = from + 1 == knots_.end() ? s : (from + 1)->s;
+  const auto from = it == knots.begin() ? knots.begin() : it - 1;
+  const double to = from + 1 == knots.end() ? s : (from + 1)->s;
   const State y = advance(horizontal, vertical, *from, s, to);
   Point p;
   p.latitude_rad = y.lat;

@@ -50,7 +50,65 @@ constexpr double kSameSideGap_m = 20.0;
 constexpr double kClearanceTolerance_m = 1e-6;
 
 // ---------------------------------------------------------------------------------------------
-// Clearance: a uniform plan-view grid over polyline segments.
+// Polylines: a track's points are P(x) = main(x) + y(x) l(x) at the main chainages of its runs,
+// made on demand run by run.
+
+// The point of `track` at main chainage x on offset piece `piece`. The main track (y = 0) is
+// the main centreline itself, bit for bit.
+Eigen::Vector3d pointOf(const Track& main, const LayoutTrack& track, int piece, double x) {
+  const TrackPoint tp = main.atChainage(x);
+  const double y = track.offset[static_cast<std::size_t>(piece)].offset(x);
+  return y == 0.0 ? tp.position : Eigen::Vector3d(tp.position + y * tp.left);
+}
+
+// Main chainage of point i of a run (i = 0 is its start).
+double runChainage(double x0, double x1, std::size_t i, std::size_t n) {
+  return i == n ? x1 : x0 + (x1 - x0) * static_cast<double>(i) / static_cast<double>(n);
+}
+
+// Points 0..n of run k (0: the previous run's last point, or the first run's point at x0).
+void runPoints(const Track& main, const LayoutTrack& track, std::size_t k,
+               std::vector<Eigen::Vector3d>& out) {
+  const PolylineRun& r = track.runs[k];
+  out.clear();
+  out.push_back(k == 0 ? pointOf(main, track, r.piece, r.x0)
+                       : pointOf(main, track, track.runs[k - 1].piece, track.runs[k - 1].x1));
+  for (std::size_t i = 1; i <= r.n; ++i)
+    out.push_back(pointOf(main, track, r.piece, runChainage(r.x0, r.x1, i, r.n)));
+}
+
+struct PlanBox {
+  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
+  double max_x = -min_x, max_y = -min_x;
+  void add(const Eigen::Vector3d& p) {
+    min_x = std::min(min_x, p.x());
+    min_y = std::min(min_y, p.y());
+    max_x = std::max(max_x, p.x());
+    max_y = std::max(max_y, p.y());
+  }
+  bool meets(const PlanBox& o) const {
+    return o.min_x <= max_x && o.max_x >= min_x && o.min_y <= max_y && o.max_y >= min_y;
+  }
+};
+
+// Plan bounds of every run of every track (indexed like the tracks), made while the layout is
+// built or checked and dropped after: the plan keeps only the runs.
+using RunBounds = std::vector<std::vector<PlanBox>>;
+
+std::vector<PlanBox> boundsOf(const Track& main, const LayoutTrack& track) {
+  std::vector<PlanBox> out;
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t k = 0; k < track.runs.size(); ++k) {
+    runPoints(main, track, k, points);
+    PlanBox& box = out.emplace_back();
+    for (const Eigen::Vector3d& p : points)
+      box.add(p);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Clearance: a uniform plan-view grid over the segments near one track.
 
 double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b) {
@@ -64,10 +122,11 @@ class SegmentGrid {
  public:
   explicit SegmentGrid(double cell_m) : cell_(cell_m) {}
 
-  void add(const LayoutTrack& track, int track_index) {
-    for (std::size_t i = 0; i + 1 < track.polyline.size(); ++i) {
-      const Eigen::Vector3d& a = track.polyline[i];
-      const Eigen::Vector3d& b = track.polyline[i + 1];
+  // The segments between consecutive `points` of track `track_index`.
+  void add(const std::vector<Eigen::Vector3d>& points, int track_index) {
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      const Eigen::Vector3d& a = points[i];
+      const Eigen::Vector3d& b = points[i + 1];
       const auto index = static_cast<std::uint32_t>(segments_.size());
       segments_.push_back({a, b, track_index});
       const std::int64_t x0 = cellOf(std::min(a.x(), b.x())), x1 = cellOf(std::max(a.x(), b.x()));
@@ -124,27 +183,46 @@ bool inRanges(double u, const std::vector<std::pair<double, double>>& ranges) {
   return false;
 }
 
-// Issues of one track's points (outside its turnout ranges) against the grid, which holds
-// `tracks` by index.
-void collectIssues(const LayoutTrack& track, int track_index,
-                   const std::vector<LayoutTrack>& tracks, const SegmentGrid& grid,
-                   double min_distance_m, std::vector<ClearanceIssue>& out) {
-  for (std::size_t i = 0; i < track.polyline.size(); ++i) {
-    if (inRanges(track.distance_m[i], track.turnout_ranges_m))
-      continue;
-    const auto [dist, other] = grid.nearest(track.polyline[i], min_distance_m, track_index);
-    if (dist < min_distance_m - kClearanceTolerance_m)
-      out.push_back(
-          {track.id, tracks[static_cast<std::size_t>(other)].id, track.distance_m[i], dist});
-  }
-}
-
 double gridCell(double min_distance_m) {
   return std::max(min_distance_m, 1.0);
 }
 
+// Issues of `track` (polyline `own`, id `self`, not necessarily in `tracks` yet) against every
+// other track of `tracks` whose runs come within min_distance_m of it in plan.
+void collectIssues(const Track& main, const LayoutTrack& track, const Polyline& own, int self,
+                   const std::vector<LayoutTrack>& tracks, const RunBounds& bounds,
+                   double min_distance_m, std::vector<ClearanceIssue>& out) {
+  PlanBox box;
+  for (const Eigen::Vector3d& p : own.points)
+    box.add(p);
+  box.min_x -= min_distance_m;
+  box.min_y -= min_distance_m;
+  box.max_x += min_distance_m;
+  box.max_y += min_distance_m;
+  SegmentGrid grid(gridCell(min_distance_m));
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t j = 0; j < tracks.size(); ++j) {
+    if (static_cast<int>(j) == self)
+      continue;
+    for (std::size_t k = 0; k < tracks[j].runs.size(); ++k) {
+      if (!box.meets(bounds[j][k]))
+        continue;
+      runPoints(main, tracks[j], k, points);
+      grid.add(points, static_cast<int>(j));
+    }
+  }
+  for (std::size_t i = 0; i < own.points.size(); ++i) {
+    if (inRanges(own.distance_m[i], track.turnout_ranges_m))
+      continue;
+    const auto [dist, other] = grid.nearest(own.points[i], min_distance_m, self);
+    if (dist < min_distance_m - kClearanceTolerance_m)
+      out.push_back(
+          {track.id, tracks[static_cast<std::size_t>(other)].id, own.distance_m[i], dist});
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
-// Sampling tracks into polylines.
+// Sampling tracks into runs.
 
 // A stretch of one layout track between two main chainages, with the block it belongs to.
 struct Interval {
@@ -153,82 +231,107 @@ struct Interval {
   TrackPart part = TrackPart::kWhole;
   int main_block_id = -1;
   bool in_turnout = false;
-  int piece = -1;  // auxiliary tracks: the geometric piece that gives the offset
+  int piece = 0;  // the offset piece that gives the offset
 };
 
-using PointFn = std::function<Eigen::Vector3d(const Interval&, double)>;
+// The intervals cut wherever main chainage crosses a multiple of kPolylineRunLength_m, so
+// that no run is longer.
+std::vector<Interval> cutIntoRuns(const std::vector<Interval>& intervals) {
+  std::vector<Interval> out;
+  for (const Interval& iv : intervals) {
+    double x = iv.x0;
+    for (;;) {
+      const double grid = (std::floor(x / kPolylineRunLength_m) + 1.0) * kPolylineRunLength_m;
+      Interval part = iv;
+      part.x0 = x;
+      part.x1 = std::min(iv.x1, grid);
+      if (iv.x1 - part.x1 <= 1e-9)
+        part.x1 = iv.x1;
+      out.push_back(part);
+      if (part.x1 == iv.x1)
+        break;
+      x = part.x1;
+    }
+  }
+  return out;
+}
 
-// Appends point(x) for x in (x0, x1] uniformly in x, with just enough points for every 3D
-// chord to be at most `spacing_m` (re-sampled more finely until it is).
-void appendInterval(const PointFn& point, const Interval& iv, double spacing_m,
-                    std::vector<Eigen::Vector3d>& out, std::vector<double>& chainage) {
-  const Eigen::Vector3d p0 = out.back();
-  const Eigen::Vector3d p1 = point(iv, iv.x1);
+// The run for `iv` after the point `p0`: just enough points, uniform in x, for every 3D chord
+// to be at most `spacing_m` (re-sampled more finely until it is). `points` receives points
+// 0..n of the run.
+PolylineRun sampleRun(const Track& main, const LayoutTrack& track, const Interval& iv,
+                      const Eigen::Vector3d& p0, double distance_begin_m, double spacing_m,
+                      std::vector<Eigen::Vector3d>& points, PlanBox& box) {
+  PolylineRun run;
+  run.x0 = iv.x0;
+  run.x1 = iv.x1;
+  run.piece = iv.piece;
+  run.distance_begin_m = distance_begin_m;
+  const Eigen::Vector3d p1 = pointOf(main, track, iv.piece, iv.x1);
   const double estimate = std::max((p1 - p0).norm(), iv.x1 - iv.x0) * 1.001;
-  auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(estimate / spacing_m)));
-  std::vector<Eigen::Vector3d> pts;
+  std::size_t n =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(estimate / spacing_m)));
   for (;;) {
-    pts.clear();
+    points.assign(1, p0);
     double max_chord = 0.0;
-    Eigen::Vector3d prev = p0;
     for (std::size_t i = 1; i <= n; ++i) {
       const Eigen::Vector3d q =
-          i == n ? p1 : point(iv, iv.x0 + (iv.x1 - iv.x0) * static_cast<double>(i) / n);
-      max_chord = std::max(max_chord, (q - prev).norm());
-      pts.push_back(q);
-      prev = q;
+          i == n ? p1 : pointOf(main, track, iv.piece, runChainage(iv.x0, iv.x1, i, n));
+      max_chord = std::max(max_chord, (q - points.back()).norm());
+      points.push_back(q);
     }
     if (max_chord <= spacing_m)
       break;
-    n = std::max(n + 1, static_cast<std::size_t>(std::ceil(n * max_chord / spacing_m * 1.001)));
+    n = std::max(n + 1, static_cast<std::size_t>(
+                            std::ceil(static_cast<double>(n) * max_chord / spacing_m * 1.001)));
   }
-  out.insert(out.end(), pts.begin(), pts.end());
-  for (std::size_t i = 1; i <= n; ++i)
-    chainage.push_back(i == n ? iv.x1 : iv.x0 + (iv.x1 - iv.x0) * static_cast<double>(i) / n);
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    throw RuntimeError(fmt::format("layout track {}: {} polyline points in one run", track.id, n));
+  run.n = static_cast<std::uint32_t>(n);
+  double distance = distance_begin_m;
+  box = PlanBox{};
+  box.add(points.front());
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    distance += (points[i] - points[i - 1]).norm();
+    box.add(points[i]);
+  }
+  run.distance_end_m = distance;
+  return run;
 }
 
-// Fills the track's polyline, distances, blocks and turnout ranges from consecutive intervals.
-// Consecutive intervals with the same labels form one block.
-void sampleTrack(const std::vector<Interval>& intervals, const PointFn& point, double spacing_m,
-                 LayoutTrack& track) {
-  track.polyline.clear();
-  track.polyline.push_back(point(intervals.front(), intervals.front().x0));
-  track.main_chainage_m.assign(1, intervals.front().x0);
-  std::vector<std::size_t> break_index{0};
-  for (const Interval& iv : intervals) {
-    appendInterval(point, iv, spacing_m, track.polyline, track.main_chainage_m);
-    break_index.push_back(track.polyline.size() - 1);
-  }
-  track.distance_m.assign(track.polyline.size(), 0.0);
-  for (std::size_t i = 1; i < track.polyline.size(); ++i)
-    track.distance_m[i] =
-        track.distance_m[i - 1] + (track.polyline[i] - track.polyline[i - 1]).norm();
-  const auto dist = [&](std::size_t k) { return track.distance_m[break_index[k]]; };
-  for (std::size_t k = 0; k < intervals.size(); ++k) {
-    const Interval& iv = intervals[k];
+// Fills the track's runs, blocks and turnout ranges from consecutive intervals (its offset
+// law already set). Consecutive intervals with the same labels form one block.
+void sampleTrack(const Track& main, const std::vector<Interval>& intervals, double spacing_m,
+                 LayoutTrack& track, std::vector<PlanBox>* bounds = nullptr) {
+  const std::vector<Interval> cut = cutIntoRuns(intervals);
+  track.runs.clear();
+  track.blocks.clear();
+  if (bounds != nullptr)
+    bounds->clear();
+  track.turnout_ranges_m.clear();
+  std::vector<Eigen::Vector3d> points{pointOf(main, track, cut.front().piece, cut.front().x0)};
+  for (std::size_t k = 0; k < cut.size(); ++k) {
+    const Interval& iv = cut[k];
+    const Eigen::Vector3d p0 = points.back();
+    PlanBox box;
+    track.runs.push_back(sampleRun(main, track, iv, p0, track.length_m(), spacing_m, points, box));
+    if (bounds != nullptr)
+      bounds->push_back(box);
+    const double begin = track.runs.back().distance_begin_m, end = track.runs.back().distance_end_m;
     if (k > 0 && track.blocks.back().type == iv.type && track.blocks.back().part == iv.part &&
         track.blocks.back().main_block_id == iv.main_block_id)
-      track.blocks.back().end_m = dist(k + 1);
+      track.blocks.back().end_m = end;
     else
-      track.blocks.push_back({iv.type, iv.part, dist(k), dist(k + 1), iv.main_block_id});
+      track.blocks.push_back({iv.type, iv.part, begin, end, iv.main_block_id});
     if (iv.in_turnout) {
-      if (k > 0 && intervals[k - 1].in_turnout)
-        track.turnout_ranges_m.back().second = dist(k + 1);
+      if (k > 0 && cut[k - 1].in_turnout)
+        track.turnout_ranges_m.back().second = end;
       else
-        track.turnout_ranges_m.emplace_back(dist(k), dist(k + 1));
+        track.turnout_ranges_m.emplace_back(begin, end);
     }
   }
-}
-
-// The main track's frame at chainage s: centreline point and left unit normal in plan.
-struct MainFrame {
-  Eigen::Vector3d position;
-  Eigen::Vector3d left;
-};
-
-MainFrame mainFrame(const Track& track, double s) {
-  const TrackPoint tp = track.atChainage(s);
-  return {tp.position, tp.left};
+  track.runs.shrink_to_fit();
+  track.blocks.shrink_to_fit();
 }
 
 // The main blocks as intervals; one interval over the whole track if the route has none.
@@ -237,10 +340,10 @@ std::vector<Interval> mainIntervals(const Route& route) {
   for (const Block& b : route.blocks)
     if (b.chainage_end_m > b.chainage_begin_m)
       out.push_back({b.chainage_begin_m, b.chainage_end_m, layoutBlockType(b.type),
-                     TrackPart::kWhole, b.id, false, -1});
+                     TrackPart::kWhole, b.id, false, 0});
   if (out.empty())
     out.push_back(
-        {0.0, route.track.length(), LayoutBlockType::kStraight, TrackPart::kWhole, -1, false, -1});
+        {0.0, route.track.length(), LayoutBlockType::kStraight, TrackPart::kWhole, -1, false, 0});
   return out;
 }
 
@@ -476,9 +579,8 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
   main.kind = TrackKind::kMain;
   main.main_chainage_end_m = track.length();
   main.offset = {OffsetPiece::line(0.0, track.length(), 0.0, 0.0)};
-  sampleTrack(
-      blocks, [&](const Interval&, double s) { return mainFrame(track, s).position; }, spacing,
-      main);
+  RunBounds bounds(1);
+  sampleTrack(track, blocks, spacing, main, &bounds.back());
   layout.tracks.push_back(std::move(main));
 
   int double_id = -1;
@@ -489,22 +591,12 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
     dbl.offset_m = -d;
     dbl.main_chainage_end_m = track.length();
     dbl.offset = {OffsetPiece::line(0.0, track.length(), -d, -d)};
-    sampleTrack(
-        blocks,
-        [&](const Interval&, double s) {
-          const MainFrame f = mainFrame(track, s);
-          return Eigen::Vector3d(f.position - d * f.left);
-        },
-        spacing, dbl);
+    sampleTrack(track, blocks, spacing, dbl, &bounds.emplace_back());
     layout.tracks.push_back(std::move(dbl));
   }
 
   if (!aux_possible)
     return layout;
-
-  SegmentGrid grid(gridCell(d));
-  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
-    grid.add(layout.tracks[i], static_cast<int>(i));
 
   const double p_turnout = params.turnout_probability;
   const double min_end = p_turnout <= 0.0   ? geo.deadEndLength()
@@ -562,23 +654,18 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
       aux.main_chainage_begin_m = pieces.front().x0;
       aux.main_chainage_end_m = pieces.back().x1;
       aux.offset.assign(pieces.begin(), pieces.end());
-      sampleTrack(
-          auxIntervals(pieces, blocks),
-          [&](const Interval& iv, double x) {
-            const MainFrame f = mainFrame(track, x);
-            return Eigen::Vector3d(f.position +
-                                   pieces[static_cast<std::size_t>(iv.piece)].offset(x) * f.left);
-          },
-          spacing, aux);
+      std::vector<PlanBox> aux_bounds;
+      sampleTrack(track, auxIntervals(pieces, blocks), spacing, aux, &aux_bounds);
 
       // Sound by construction beside a straight; this catches the route itself running back
       // close to the stretch.
       std::vector<ClearanceIssue> issues;
-      collectIssues(aux, aux.id, layout.tracks, grid, d, issues);
+      collectIssues(track, aux, samplePolyline(track, aux), aux.id, layout.tracks, bounds, d,
+                    issues);
       if (!issues.empty())
         continue;
-      grid.add(aux, aux.id);
       layout.tracks.push_back(std::move(aux));
+      bounds.push_back(std::move(aux_bounds));
     }
   }
   return layout;
@@ -636,28 +723,117 @@ TrackFrame trackFrame(const Track& main, const LayoutTrack& track, double main_c
 }
 
 TrackFrame trackFrameAtDistance(const Track& main, const LayoutTrack& track, double distance_m) {
-  const std::vector<double>& d = track.distance_m;
-  if (d.size() < 2 || track.main_chainage_m.size() != d.size())
+  if (track.runs.empty())
     throw RuntimeError(fmt::format("layout track {} has no sampled polyline", track.id));
-  const double u = std::clamp(distance_m, d.front(), d.back());
-  const std::size_t i = std::min<std::size_t>(
-      static_cast<std::size_t>(std::upper_bound(d.begin(), d.end(), u) - d.begin()), d.size() - 1);
-  const double w = d[i] > d[i - 1] ? (u - d[i - 1]) / (d[i] - d[i - 1]) : 0.0;
-  const std::vector<double>& x = track.main_chainage_m;
-  return trackFrame(main, track, x[i - 1] + w * (x[i] - x[i - 1]));
+  const double u = std::clamp(distance_m, 0.0, track.length_m());
+  const auto run =
+      std::lower_bound(track.runs.begin(), track.runs.end() - 1, u,
+                       [](const PolylineRun& r, double v) { return r.distance_end_m < v; });
+  const auto k = static_cast<std::size_t>(run - track.runs.begin());
+  std::vector<Eigen::Vector3d> points;
+  runPoints(main, track, k, points);
+  double d0 = run->distance_begin_m;
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    const double d1 =
+        i == points.size() - 1 ? run->distance_end_m : d0 + (points[i] - points[i - 1]).norm();
+    if (u <= d1 || i == points.size() - 1) {
+      const double w = d1 > d0 ? std::clamp((u - d0) / (d1 - d0), 0.0, 1.0) : 0.0;
+      const double xa = runChainage(run->x0, run->x1, i - 1, run->n);
+      const double xb = runChainage(run->x0, run->x1, i, run->n);
+      return trackFrame(main, track, xa + w * (xb - xa));
+    }
+    d0 = d1;
+  }
+  return trackFrame(main, track, run->x1);
 }
 
-std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_distance_m) {
+void forEachPolylinePoint(
+    const Track& main, const LayoutTrack& track,
+    const std::function<void(const Eigen::Vector3d&, double, double)>& visit) {
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t k = 0; k < track.runs.size(); ++k) {
+    const PolylineRun& r = track.runs[k];
+    runPoints(main, track, k, points);
+    double distance = r.distance_begin_m;
+    if (k == 0)
+      visit(points.front(), distance, r.x0);
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      distance += (points[i] - points[i - 1]).norm();
+      visit(points[i], distance, runChainage(r.x0, r.x1, i, r.n));
+    }
+  }
+}
+
+Polyline samplePolyline(const Track& main, const LayoutTrack& track, double x_begin, double x_end) {
+  Polyline out;
+  std::vector<Eigen::Vector3d> points;
+  bool have_previous_end = false;  // the last point pushed is the previous run's last point
+  for (std::size_t k = 0; k < track.runs.size(); ++k) {
+    const PolylineRun& r = track.runs[k];
+    // Segment i (points i − 1 → i) spans main chainage [x(i − 1), x(i)].
+    if (r.x1 < x_begin || r.x0 > x_end) {
+      have_previous_end = false;
+      continue;
+    }
+    runPoints(main, track, k, points);
+    double distance = r.distance_begin_m;
+    bool previous_pushed = have_previous_end;
+    for (std::size_t i = 1; i <= r.n; ++i) {
+      const double xa = runChainage(r.x0, r.x1, i - 1, r.n), xb = runChainage(r.x0, r.x1, i, r.n);
+      const double da = distance;
+      distance += (points[i] - points[i - 1]).norm();
+      if (xb < x_begin || xa > x_end) {
+        previous_pushed = false;
+        continue;
+      }
+      if (!previous_pushed) {
+        out.points.push_back(points[i - 1]);
+        out.distance_m.push_back(da);
+        out.main_chainage_m.push_back(xa);
+      }
+      out.points.push_back(points[i]);
+      out.distance_m.push_back(distance);
+      out.main_chainage_m.push_back(xb);
+      previous_pushed = true;
+    }
+    have_previous_end = previous_pushed;
+  }
+  return out;
+}
+
+LayoutTrack offsetTrack(const Track& main, int id, TrackKind kind, std::vector<OffsetPiece> offset,
+                        double spacing_m, LayoutBlockType type) {
+  if (offset.empty())
+    throw RuntimeError(fmt::format("layout track {} has no offset law", id));
+  LayoutTrack track;
+  track.id = id;
+  track.kind = kind;
+  track.offset_m = offset.front().offset(offset.front().x0);
+  track.main_chainage_begin_m = offset.front().x0;
+  track.main_chainage_end_m = offset.back().x1;
+  track.offset = std::move(offset);
+  std::vector<Interval> intervals;
+  for (std::size_t i = 0; i < track.offset.size(); ++i)
+    intervals.push_back({track.offset[i].x0, track.offset[i].x1, type, TrackPart::kWhole, -1, false,
+                         static_cast<int>(i)});
+  sampleTrack(main, intervals, spacing_m, track);
+  return track;
+}
+
+std::vector<ClearanceIssue> checkClearance(const Track& main, const Layout& layout,
+                                           double min_distance_m) {
   std::vector<ClearanceIssue> out;
   if (!(min_distance_m > kClearanceTolerance_m))
     return out;
-  SegmentGrid grid(gridCell(min_distance_m));
-  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
-    grid.add(layout.tracks[i], static_cast<int>(i));
-  for (std::size_t i = 0; i < layout.tracks.size(); ++i)
-    if (layout.tracks[i].kind == TrackKind::kAuxiliary)
-      collectIssues(layout.tracks[i], static_cast<int>(i), layout.tracks, grid, min_distance_m,
-                    out);
+  RunBounds bounds;
+  for (const LayoutTrack& t : layout.tracks)
+    bounds.push_back(boundsOf(main, t));
+  for (std::size_t i = 0; i < layout.tracks.size(); ++i) {
+    const LayoutTrack& t = layout.tracks[i];
+    if (t.kind == TrackKind::kAuxiliary)
+      collectIssues(main, t, samplePolyline(main, t), static_cast<int>(i), layout.tracks, bounds,
+                    min_distance_m, out);
+  }
   return out;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,11 +25,16 @@ namespace trainsim::track {
 /// expressed in the anchor's Earth-fixed ENU frame (GeodeticAnchor).
 ///
 /// The azimuth is carried as the design heading's closed form plus the slowly varying
-/// geodesic term, integrated by RK4 from knots stored at every element start and every
+/// geodesic term, integrated by RK4 from knots at every element start and every
 /// `knot_spacing_m` (steps of at most 5 m and 0.03 rad of design heading); between knots a
 /// point is integrated from the knot before it, so at(s) is a pure function of s. Positions
 /// agree with an independent geodesic (GeographicLib) to well under a millimetre over
 /// 100 km (tests/unit/track_earth_test.cpp).
+///
+/// Only every kKnotsPerChunk-th knot is kept (32 bytes per ~1.3 km); the knots of a chunk are
+/// integrated again from it when a query needs them, into a small per-thread cache. They are
+/// the same numbers bit for bit whenever and on whichever thread they are made, so memory
+/// stays flat with the route's length and results do not depend on the order of queries.
 class EarthPlacement {
  public:
   /// Lays out `horizontal` and `vertical` (z relative to the anchor's height) from the
@@ -59,6 +65,19 @@ class EarthPlacement {
   struct State {
     double s, lat, lon, delta;  // delta: azimuth minus the design heading's azimuth
   };
+  // A kept knot: its state, and where it is in the knot sequence (knot k of element i's
+  // subdivision, k = 0 only for the very first knot).
+  struct Anchor {
+    State state;
+    std::uint32_t element, k;
+  };
+  static constexpr std::size_t kKnotsPerChunk = 64;
+  // The knots of chunk c: anchor c and the kKnotsPerChunk knots after it (fewer at the end).
+  const std::vector<State>& chunk(const HorizontalAlignment& horizontal,
+                                  const VerticalProfile& vertical, std::size_t c) const;
+  // The knot after (element, k), advanced from `y`; updates element and k.
+  State nextKnot(const HorizontalAlignment& horizontal, const VerticalProfile& vertical,
+                 const State& y, std::uint32_t& element, std::uint32_t& k) const;
   // Integrates from `from` to s in the number of steps that the knot interval [from.s, to]
   // takes.
   State advance(const HorizontalAlignment& horizontal, const VerticalProfile& vertical, State from,
@@ -70,7 +89,10 @@ class EarthPlacement {
   double heading0_ = 0.0;  // design heading at s = 0
   Eigen::Vector3d ecef0_;
   Eigen::Matrix3d r_world_ecef_;
-  std::vector<State> knots_;
+  double knot_spacing_m_ = 20.0;
+  std::size_t knot_count_ = 0;
+  std::vector<Anchor> anchors_;
+  std::uint64_t id_ = 0;  // names this placement's knots in the per-thread cache
 };
 
 }  // namespace trainsim::track

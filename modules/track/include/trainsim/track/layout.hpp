@@ -1,6 +1,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -139,7 +141,21 @@ constexpr std::span<const EnumName<TrackKind>> enumNames(TrackKind) {
   return kTrackKindNames;
 }
 
-/// One track of the layout as a polyline in the world frame (ENU, m).
+/// A stretch of a layout track's polyline: main chainage [x0, x1] sampled uniformly, with the
+/// points at x0 + (x1 − x0)·i/n for i = 1..n on the offset piece `piece`. The stretch begins at
+/// the previous run's last point (the first run at its own point at x0). Runs span at most
+/// `kPolylineRunLength_m` of main chainage, so a track is O(its length / 500 m) numbers, and
+/// a stretch of its polyline is made on demand (samplePolyline) without holding the rest.
+struct PolylineRun {
+  double x0 = 0.0, x1 = 0.0;
+  double distance_begin_m = 0.0, distance_end_m = 0.0;  ///< along-polyline (3D chord) distance
+  std::uint32_t n = 1;
+  std::int32_t piece = 0;  ///< index into LayoutTrack::offset
+};
+inline constexpr double kPolylineRunLength_m = 500.0;
+
+/// One track of the layout: a lateral offset law from the main track and the runs that sample
+/// it into a polyline in the world frame (ENU, m), at most `polyline_spacing_m` apart in 3D.
 struct LayoutTrack {
   int id = 0;
   TrackKind kind = TrackKind::kMain;
@@ -147,14 +163,39 @@ struct LayoutTrack {
   double offset_m = 0.0;  ///< lateral offset of the parallel part from the main track (+ left)
   double main_chainage_begin_m = 0.0, main_chainage_end_m = 0.0;  ///< main chainage it spans
   std::vector<LayoutBlock> blocks;
-  std::vector<Eigen::Vector3d> polyline;  ///< world points, 3D spacing <= polyline_spacing_m
-  std::vector<double> distance_m;         ///< along-polyline (3D chord) distance of each point
-  std::vector<double> main_chainage_m;    ///< main-track chainage x of each point
-  std::vector<OffsetPiece> offset;        ///< y(x) over [main_chainage_begin_m, _end_m]
+  std::vector<OffsetPiece> offset;  ///< y(x) over [main_chainage_begin_m, _end_m]
+  std::vector<PolylineRun> runs;    ///< the polyline, in order of main chainage
   /// Along this polyline: stretches inside a turnout connection (closer than the track-centre
   /// distance by design).
   std::vector<std::pair<double, double>> turnout_ranges_m;
+
+  double length_m() const { return runs.empty() ? 0.0 : runs.back().distance_end_m; }
 };
+
+/// Polyline points of a layout track with their along-polyline distance and main chainage.
+struct Polyline {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> distance_m;
+  std::vector<double> main_chainage_m;
+};
+
+/// The polyline of `track` (the points of every segment that reaches main chainage
+/// [x_begin, x_end]; all of it by default). Points are the track's position at their main
+/// chainage (trackFrame), bit for bit the same whichever window asks for them.
+Polyline samplePolyline(const Track& main, const LayoutTrack& track,
+                        double x_begin = -std::numeric_limits<double>::infinity(),
+                        double x_end = std::numeric_limits<double>::infinity());
+
+/// Calls visit(point, distance_m, main_chainage_m) for every polyline point in order, holding
+/// one run at a time.
+void forEachPolylinePoint(const Track& main, const LayoutTrack& track,
+                          const std::function<void(const Eigen::Vector3d&, double, double)>& visit);
+
+/// A track along `main` at the lateral offset law `offset` (pieces that tile a stretch of main
+/// chainage), sampled at most `spacing_m` apart, one block of `type` per piece. buildLayout
+/// lays its tracks this way, with blocks cut at the main blocks as well.
+LayoutTrack offsetTrack(const Track& main, int id, TrackKind kind, std::vector<OffsetPiece> offset,
+                        double spacing_m, LayoutBlockType type = LayoutBlockType::kStraight);
 
 /// All tracks; tracks[0] is the main track, then the double track (if any), then the
 /// auxiliary tracks in the order they were placed. A track's id is its index.
@@ -191,10 +232,10 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
 
 /// The frame of `track` at main chainage x, in closed form from the main track and the track's
 /// offset law: P(x) = main(x) + y(x) l(x), tangent ∝ (1 − κ y) t + y′ l + (dz/dx) up. Exact on
-/// the polyline points (which are P at their main_chainage_m). x is clamped to the track.
+/// the polyline points (which are P at their main chainage). x is clamped to the track.
 TrackFrame trackFrame(const Track& main, const LayoutTrack& track, double main_chainage_m);
-/// The frame at a distance along the track's polyline (its distance_m), through the main
-/// chainage interpolated between polyline points.
+/// The frame at a distance along the track's polyline, through the main chainage interpolated
+/// between polyline points (one run is sampled to find them).
 TrackFrame trackFrameAtDistance(const Track& main, const LayoutTrack& track, double distance_m);
 
 /// A polyline point of an auxiliary track too close to another track.
@@ -207,8 +248,11 @@ struct ClearanceIssue {
 
 /// Every polyline point of an auxiliary track (outside its turnout_ranges_m) closer than
 /// `min_distance_m - 1e-6` to any other track's polyline (3D point-to-segment distance), one
-/// issue per point, reporting the nearest such track. Empty when the layout is sound. Uses a
-/// uniform grid hash over the segments (plan cells of size >= min_distance_m).
-std::vector<ClearanceIssue> checkClearance(const Layout& layout, double min_distance_m);
+/// issue per point, reporting the nearest such track. Empty when the layout is sound. Per
+/// auxiliary track, only the runs whose plan bounds come within min_distance_m of it are
+/// sampled, into a uniform grid hash over their segments (plan cells >= min_distance_m), so
+/// memory does not grow with the route.
+std::vector<ClearanceIssue> checkClearance(const Track& main, const Layout& layout,
+                                           double min_distance_m);
 
 }  // namespace trainsim::track
