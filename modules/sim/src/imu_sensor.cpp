@@ -144,7 +144,9 @@ scenario::Binding<inertial::TriadSpec> triadBinding(const std::string& u, bool g
   add("random_walk_" + u + "_rts", &T::random_walk, u + "/sqrt(s)", "Rate random walk K");
   add("bias_instability_" + u, &T::bias_instability, u, "Bias instability B (Allan floor 0.664 B)");
   add("bias_instability_tau_s", &T::bias_instability_tau_s, "s",
-      "Cluster time at the middle of the floor")
+      "Cluster time tau0 of the flicker floor: Allan deviation 0.664 B at tau0, flat within "
+      "2.5 % from tau0/100 to 1000 tau0, falling off as sqrt(tau) below and as 1/sqrt(tau) far "
+      "above (eight Gauss-Markov terms, one decade apart)")
       ->range(0.01, 1e6);
   add("turn_on_bias_" + u, &T::turn_on_bias, u, "1-sigma per-run constant bias");
   add("scale_factor_ppm", &T::scale_factor, "ppm", "1-sigma per-run scale-factor error",

@@ -18,7 +18,7 @@ struct TriadSpec {
   double noise_density = 0.0;           ///< white noise N, unit/√Hz: σ = N·√f_s per sample
   double random_walk = 0.0;             ///< rate random walk K, unit/√s (ADEV K·√(τ/3))
   double bias_instability = 0.0;        ///< B, unit: ADEV floor ≈ 0.664·B
-  double bias_instability_tau_s = 100;  ///< cluster time at the middle of the flat floor
+  double bias_instability_tau_s = 100;  ///< τ0: floor 0.664·B flat over τ0/100…1000·τ0
   double turn_on_bias = 0.0;            ///< 1σ of the per-run constant bias, unit
   double scale_factor = 0.0;            ///< 1σ of the per-run scale-factor error (ratio)
   double misalignment_rad = 0.0;        ///< 1σ of each per-run cross-axis coupling term
@@ -30,21 +30,29 @@ struct TriadSpec {
 
 /// The output chain of one triad, y = Q(sat((I + M)·x + G·f + b_on + b_BI + b_RW + b_T + n)):
 /// misalignment and scale factor M, g-sensitivity G (gyroscope), turn-on bias, bias
-/// instability as a sum of five first-order Gauss–Markov processes with log-spaced correlation
-/// times (a flicker approximation whose Allan deviation is flat at 0.664·B over about two
-/// decades around `bias_instability_tau_s`; one GM process would give a hump), rate random
-/// walk, white noise, saturation and quantization with the residual carried over. All
-/// processes are discretised exactly, so the statistics do not depend on the sample rate.
-/// The slow terms (bias instability, random walk) are updated every `slowStride()` readings,
-/// about every 0.25 s and never more than 1/20 of the shortest flicker correlation time, and
-/// held in between: their spectrum lies far below the sample rate, and drawing their 18
-/// normals at every reading would cost most of the model's time. White noise is drawn at
-/// every reading with the keyed ziggurat (RandomStream::normals).
-/// Random numbers are keyed by (seed, stream, reading index): a run is reproducible and can
-/// resume from state().
+/// instability, rate random walk, white noise, saturation and quantization with the residual
+/// carried over. All processes are discretised exactly, so the statistics do not depend on the
+/// sample rate.
+///
+/// Bias instability is flicker (1/f) noise, approximated by eight first-order Gauss–Markov
+/// processes of equal variance whose correlation times are one decade apart,
+/// T_i = τ0·10^(i−3)/1.89 for i = 0…7 (τ0 = `bias_instability_tau_s`; a GM process's Allan
+/// deviation peaks at τ = 1.89 T). Their Allan deviation is 0.664·B at τ0 and flat within
+/// 2.5 % from τ0/100 to 1000·τ0 (flickerAllanVariance, the closed form): it reaches past the
+/// random-walk line of any sensor, whose slow bias wander is then 1/f down to ~10⁻⁵/τ0 Hz.
+/// Below τ0/100 it falls off as τ^(+1/2), where white noise dominates a real sensor. One GM
+/// process would give a hump, not a floor.
+///
+/// The slow terms are held between updates: the random walk is updated every 0.25 s, each
+/// flicker term every 1/20 of its correlation time (at most 0.25 s), their spectra lying far
+/// below those rates. A flicker term faster than that is advanced at every reading and gives
+/// its exact mean over the sample interval, as white noise does (σ = N/√dt is the interval
+/// mean of white noise), so the Allan variance at every τ = m·dt is the closed form's. White noise
+/// is drawn at every reading with the keyed ziggurat (RandomStream::normals). Random numbers are
+/// keyed by (seed, stream, reading index): a run is reproducible and can resume from state().
 class TriadErrorModel {
  public:
-  static constexpr int kFlickerTerms = 5;
+  static constexpr std::size_t kFlickerTerms = 8;
 
   TriadErrorModel(const TriadSpec& spec, const RandomStream& stream, double dt_s);
 
@@ -65,13 +73,15 @@ class TriadErrorModel {
   /// Each flicker GM term's σ for a floor of 0.664·B (derived from the closed-form Allan
   /// variance of a GM process; exposed for tests).
   double flickerSigma() const { return flicker_sigma_; }
-  std::uint64_t slowStride() const { return stride_; }
   const std::array<double, kFlickerTerms>& flickerTau() const { return flicker_tau_; }
+  /// The closed-form Allan variance of the bias-instability terms at cluster time τ.
+  double flickerAllanVariance(double tau_s) const;
 
  private:
   TriadSpec spec_;
   RandomStream stream_;
   RandomStream slow_stream_;
+  RandomStream flicker_stream_;
   double dt_;
   double white_ = 0.0;  // σ per reading
   Eigen::Matrix3d m_ = Eigen::Matrix3d::Zero();
@@ -80,16 +90,36 @@ class TriadErrorModel {
   double flicker_sigma_ = 0.0;
   std::array<double, kFlickerTerms> flicker_tau_{};
   std::array<double, kFlickerTerms> flicker_phi_{};  // over one stride
-  std::uint64_t stride_ = 1;
+  std::array<std::uint64_t, kFlickerTerms> flicker_stride_{};
+  std::uint64_t walk_stride_ = 1;
   // Running state.
-  std::array<Eigen::Vector3d, kFlickerTerms> flicker_{};
+  std::array<Eigen::Vector3d, kFlickerTerms> flicker_{};  // held terms: value at last update
+  // Fast terms: the last interval mean and innovation of each ARMA(1,1) sequence.
+  std::array<Eigen::Vector3d, kFlickerTerms> fast_value_{}, fast_innovation_{};
   Eigen::Vector3d walk_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d residual_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d last_bias_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d slow_sum_ = Eigen::Vector3d::Zero();  // walk + flicker terms
-  std::uint64_t next_slow_ = 0;                         // next reading due a slow update
+  Eigen::Vector3d held_sum_ = Eigen::Vector3d::Zero();  // walk + held flicker terms
+  std::uint64_t next_held_ = 0;  // next reading due a held update (of any term)
+  std::uint64_t walk_next_ = 0;  // and of each term
+  std::array<std::uint64_t, kFlickerTerms> flicker_next_{};
   bool slow_ = false;
   bool started_ = false;
+
+  static constexpr double kSlowStep_s = 0.25;
+  // A flicker term drawn at every reading as the ARMA(1,1) sequence of its interval means
+  // (see the constructor); term 0 carries the white noise too.
+  struct FastTerm {
+    double phi = 0.0, theta = 0.0, sigma = 0.0;  // y_k = φ y_{k−1} + e_k + θ e_{k−1}, e ~ σ
+    double start = 0.0;                          // √(γ0 − σ²) for a stationary start
+  };
+  std::array<FastTerm, kFlickerTerms> fast_{};
+  std::size_t fast_count_ = 0;  // terms 0 … fast_count_ − 1 are fast (the shortest T first)
+  static bool due(std::uint64_t k, std::uint64_t stride, std::uint64_t& next);
+  void resetSchedule(std::uint64_t from);
+  void updateHeldTerms(std::uint64_t k);
+  Eigen::Vector3d fastTerms(std::uint64_t k);
+  void sumHeldTerms();
 };
 
 /// Allan variance of a first-order Gauss–Markov process of variance σ² and correlation time
