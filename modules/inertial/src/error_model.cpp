@@ -84,20 +84,23 @@ TriadErrorModel::TriadErrorModel(const TriadSpec& spec, const RandomStream& stre
     flicker_stride_[i] = strideOf(std::min(kSlowStep_s, flicker_tau_[i] / kHoldFraction));
     flicker_phi_[i] = std::exp(-static_cast<double>(flicker_stride_[i]) * dt_ / flicker_tau_[i]);
   }
+  walk_step_ = spec.random_walk * std::sqrt(static_cast<double>(walk_stride_) * dt_);
   if (spec.bias_instability > 0.0) {
     double unit = 0.0;  // Allan variance at τ0 for σ = 1
     for (double t : flicker_tau_)
       unit += gaussMarkovAllanVariance(1.0, t, spec.bias_instability_tau_s);
     flicker_sigma_ = 0.664 * spec.bias_instability / std::sqrt(unit);
   }
+  for (std::size_t i = 0; i < kFlickerTerms; ++i)
+    flicker_q_[i] = flicker_sigma_ * std::sqrt(1.0 - flicker_phi_[i] * flicker_phi_[i]);
   // (Eigen leaves vectors uninitialised; unused terms are saved with a run's state.)
   flicker_.fill(Eigen::Vector3d::Zero());
   fast_value_.fill(Eigen::Vector3d::Zero());
   fast_innovation_.fill(Eigen::Vector3d::Zero());
-  // Terms too fast to hold (T < 20 dt) are drawn at every reading as what a reading carries:
-  // their exact mean over the sample interval h (so the Allan variance at every τ = m·h is the
-  // closed form's; a point sample would add white noise that is not in their spectrum). For
-  // an Ornstein–Uhlenbeck process of variance σ² and φ = e^(−h/T), the interval means have
+  // Terms too fast to hold (T < kHoldFraction·dt) are drawn at every reading as what a reading
+  // carries: their exact mean over the sample interval h (so the Allan variance at every τ = m·h is
+  // the closed form's; a point sample would add white noise that is not in their spectrum). For an
+  // Ornstein–Uhlenbeck process of variance σ² and φ = e^(−h/T), the interval means have
   // autocovariance γ0 = 2σ²T(h − T(1 − φ))/h², γj = σ²T²(1 − φ)²φ^(j−1)/h² (j ≥ 1): an
   // ARMA(1,1) sequence, y_k = φ y_{k−1} + e_k + θ e_{k−1}, which needs one normal per reading
   // and axis. White noise (σ_w² added to γ0) keeps that form, so it rides in the fastest term.
@@ -148,9 +151,8 @@ void TriadErrorModel::updateHeldTerms(std::uint64_t k) {
   if (spec_.random_walk > 0.0 && due(k, walk_stride_, walk_next_)) {
     double w[3];
     slow_stream_.normals(k, w, 3);
-    const double step = spec_.random_walk * std::sqrt(static_cast<double>(walk_stride_) * dt_);
     for (int a = 0; a < 3; ++a)
-      walk_[a] += step * w[a];
+      walk_[a] += walk_step_ * w[a];
     changed = true;
   }
   if (flicker_sigma_ > 0.0) {
@@ -159,14 +161,17 @@ void TriadErrorModel::updateHeldTerms(std::uint64_t k) {
         continue;
       double w[3];
       flicker_stream_.normals(k * kFlickerTerms + i, w, 3);
-      const double q = flicker_sigma_ * std::sqrt(1.0 - flicker_phi_[i] * flicker_phi_[i]);
       for (int a = 0; a < 3; ++a)
-        flicker_[i][a] = flicker_phi_[i] * flicker_[i][a] + q * w[a];
+        flicker_[i][a] = flicker_phi_[i] * flicker_[i][a] + flicker_q_[i] * w[a];
       changed = true;
     }
   }
   if (changed)
     sumHeldTerms();
+  updateNextHeld();
+}
+
+void TriadErrorModel::updateNextHeld() {
   next_held_ = spec_.random_walk > 0.0 ? walk_next_ : std::numeric_limits<std::uint64_t>::max();
   if (flicker_sigma_ > 0.0)
     for (std::size_t i = fast_count_; i < kFlickerTerms; ++i)
@@ -193,12 +198,9 @@ void TriadErrorModel::resetSchedule(std::uint64_t from) {
   // Every held term due at its first multiple of the stride from `from` on.
   const auto first = [&](std::uint64_t stride) { return (from + stride - 1) / stride * stride; };
   walk_next_ = first(walk_stride_);
-  next_held_ = spec_.random_walk > 0.0 ? walk_next_ : std::numeric_limits<std::uint64_t>::max();
-  for (std::size_t i = 0; i < kFlickerTerms; ++i) {
+  for (std::size_t i = 0; i < kFlickerTerms; ++i)
     flicker_next_[i] = first(flicker_stride_[i]);
-    if (flicker_sigma_ > 0.0 && i >= fast_count_)
-      next_held_ = std::min(next_held_, flicker_next_[i]);
-  }
+  updateNextHeld();
 }
 
 void TriadErrorModel::sumHeldTerms() {

@@ -75,20 +75,21 @@ EarthPlacement::State EarthPlacement::advance(const HorizontalAlignment& horizon
   return {s, v.x(), v.y(), v.z()};
 }
 
+int EarthPlacement::subdivisions(const HorizontalAlignment& horizontal, std::size_t i) const {
+  const double a = horizontal.elementStart(i), b = horizontal.elementStart(i + 1);
+  return std::max(1, static_cast<int>(std::ceil((b - a) / knot_spacing_m_)));
+}
+
 EarthPlacement::State EarthPlacement::nextKnot(const HorizontalAlignment& horizontal,
                                                const VerticalProfile& vertical, const State& y,
                                                std::uint32_t& element, std::uint32_t& k) const {
-  const auto subdivisions = [&](std::uint32_t i) {
-    const double a = horizontal.elementStart(i), b = horizontal.elementStart(i + 1);
-    return std::max(1, static_cast<int>(std::ceil((b - a) / knot_spacing_m_)));
-  };
-  if (k == 0 || static_cast<int>(k) == subdivisions(element)) {
+  if (k == 0 || static_cast<int>(k) == subdivisions(horizontal, element)) {
     if (k != 0)
       ++element;
     k = 0;
   }
   ++k;
-  const int n = subdivisions(element);
+  const int n = subdivisions(horizontal, element);
   const double a = horizontal.elementStart(element), b = horizontal.elementStart(element + 1);
   const double s = static_cast<int>(k) == n ? b : a + (b - a) * static_cast<int>(k) / n;
   return advance(horizontal, vertical, y, s, s);
@@ -119,9 +120,7 @@ EarthPlacement::EarthPlacement(const HorizontalAlignment& horizontal,
   // kKnotsPerChunk-th is kept.
   std::size_t total = 1;
   for (std::size_t i = 0; i < horizontal.elements().size(); ++i)
-    total += static_cast<std::size_t>(std::max(
-        1, static_cast<int>(std::ceil(
-               (horizontal.elementStart(i + 1) - horizontal.elementStart(i)) / knot_spacing_m))));
+    total += static_cast<std::size_t>(subdivisions(horizontal, i));
   knot_count_ = total;
   anchors_.reserve((total - 1) / kKnotsPerChunk + 1);
   State y{0.0, g.latitude_deg * deg, g.longitude_deg * deg, 0.0};

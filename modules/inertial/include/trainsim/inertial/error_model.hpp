@@ -90,8 +90,10 @@ class TriadErrorModel {
   double flicker_sigma_ = 0.0;
   std::array<double, kFlickerTerms> flicker_tau_{};
   std::array<double, kFlickerTerms> flicker_phi_{};  // over one stride
+  std::array<double, kFlickerTerms> flicker_q_{};    // σ√(1 − φ²): the innovation's σ
   std::array<std::uint64_t, kFlickerTerms> flicker_stride_{};
   std::uint64_t walk_stride_ = 1;
+  double walk_step_ = 0.0;  // K√(stride·dt)
   // Running state.
   std::array<Eigen::Vector3d, kFlickerTerms> flicker_{};  // held terms: value at last update
   // Fast terms: the last interval mean and innovation of each ARMA(1,1) sequence.
@@ -118,6 +120,7 @@ class TriadErrorModel {
   static bool due(std::uint64_t k, std::uint64_t stride, std::uint64_t& next);
   void resetSchedule(std::uint64_t from);
   void updateHeldTerms(std::uint64_t k);
+  void updateNextHeld();
   Eigen::Vector3d fastTerms(std::uint64_t k);
   void sumHeldTerms();
 };

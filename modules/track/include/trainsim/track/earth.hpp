@@ -75,6 +75,8 @@ class EarthPlacement {
   // The knots of chunk c: anchor c and the kKnotsPerChunk knots after it (fewer at the end).
   const std::vector<State>& chunk(const HorizontalAlignment& horizontal,
                                   const VerticalProfile& vertical, std::size_t c) const;
+  // How many knot intervals element i is cut into (at most knot_spacing_m long).
+  int subdivisions(const HorizontalAlignment& horizontal, std::size_t i) const;
   // The knot after (element, k), advanced from `y`; updates element and k.
   State nextKnot(const HorizontalAlignment& horizontal, const VerticalProfile& vertical,
                  const State& y, std::uint32_t& element, std::uint32_t& k) const;
