@@ -6,10 +6,12 @@
 #include <iostream>
 #include <optional>
 
+#include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/progress.hpp"
 #include "trainsim/io/dataset_layout.hpp"
+#include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/generate.hpp"
 #include "trainsim/sim/plan.hpp"
@@ -21,13 +23,26 @@ namespace {
 int g_exit_code = kExitOk;
 std::atomic<bool> g_cancel{false};
 
-extern "C" void onInterrupt(int /*signal*/) {
+// The first Ctrl-C or SIGTERM asks the run to stop at the next check (it then removes or keeps
+// what it wrote, as the folder rules say); a second one kills at once.
+extern "C" void onInterrupt(int signal) {
   g_cancel.store(true);
+  std::signal(signal, SIG_DFL);
+}
+
+void catchInterrupts() {
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
 }
 
 struct CommonOptions {
   std::string scenario;  // empty: built-in default
   std::string log_level = "info";
+};
+
+struct PlanArgs : CommonOptions {
+  std::string out;
+  bool force = false;
 };
 
 struct GenerateArgs : CommonOptions {
@@ -52,6 +67,7 @@ std::string describeSource(const std::string& path) {
 }
 
 void runGenerate(const GenerateArgs& args) {
+  catchInterrupts();
   applyLogLevel(args.log_level);
   if (args.threads < 0) {
     throw ConfigError(fmt::format("--threads: {} is below the minimum 0", args.threads));
@@ -64,8 +80,6 @@ void runGenerate(const GenerateArgs& args) {
   options.threads = args.threads;
   options.progress = &progress;
   options.cancel = &g_cancel;
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
 
   logInfo(fmt::format("generate: {} (scenario {}, seed {}) into {}", describeSource(args.scenario),
                       scenario.hash(), scenario.seed(), args.out));
@@ -92,35 +106,42 @@ void runGenerate(const GenerateArgs& args) {
   logInfo(fmt::format("wrote {}/manifest.json and {}/scenario.json", args.out, args.out));
 }
 
-void runPlan(const CommonOptions& args, const std::string& out) {
+void runPlan(const PlanArgs& args) {
+  catchInterrupts();
   applyLogLevel(args.log_level);
   const scenario::Scenario scenario = sim::loadScenario(args.scenario);
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec) {
-    throw IoError("cannot create folder " + out + ": " + ec.message());
-  }
+  io::checkOutputFolder(args.out, {args.force, false});  // before the plan, not after it
+  const CancelScope cancel(&g_cancel);
   const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
-  io::writeFileAtomic(std::filesystem::path(out) / io::DatasetLayout::kScenario, scenario.text());
-  sim::writePlan(*plan, out);
+  sim::writePlanFolder(*plan, scenario, args.out, args.force);
   logWarn("plan: terrain and objects are not built yet; wrote the route, layout and trajectory");
   logInfo(
       fmt::format("wrote {0}/scenario.json, {0}/railroad.json, {0}/trajectory.csv and "
                   "{0}/design_report.json",
-                  out));
+                  args.out));
 }
 
+// Everything a run reads and checks before it writes: the scenario, the files it names, the
+// route with its design rules and the layout and motion built on it. Exit 0 means `plan` and
+// `generate` will not fail on their input.
 void runValidate(const std::string& path) {
+  catchInterrupts();
+  const CancelScope cancel(&g_cancel);
   try {
-    sim::loadScenario(path);
-    std::cout << describeSource(path) << ": valid\n";
+    const scenario::Scenario scenario = sim::loadScenario(path);
+    setLogLevel(LogLevel::kWarn);  // the plan's summary line is not validate's to print
+    const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
+    std::cout << fmt::format(
+        "{}: valid ({:.0f} m route, {} tracks, {:.0f} s run, {} design-rule warnings)\n",
+        describeSource(path), plan->route().route.track.length(), plan->layout().tracks.size(),
+        plan->motion().duration(), plan->violations().size());
   } catch (const scenario::InvalidScenario& e) {
     for (const auto& p : e.problems()) {
       std::cerr << e.source() << ": " << p.text() << "\n";
     }
     g_exit_code = kExitInvalidInput;
-  } catch (const ConfigError& e) {  // unreadable file, malformed JSON: one line already
-    std::cerr << e.what() << "\n";
+  } catch (const ConfigError& e) {  // unreadable file, malformed JSON, a route that cannot be
+    std::cerr << e.what() << "\n";  // built: one line already
     g_exit_code = kExitInvalidInput;
   }
 }
@@ -160,19 +181,22 @@ void addCommands(CLI::App& app) {
   generate->callback([] { runGenerate(gen); });
 
   // plan
-  static CommonOptions plan;
-  static std::string plan_out;
+  static PlanArgs plan;
   CLI::App* plan_cmd = app.add_subcommand(
       "plan", "Plan route, layout, trajectory, terrain and objects with the design-rule report");
   plan_cmd->add_option("SCENARIO", plan.scenario, "Scenario JSON file (default: built-in)");
-  plan_cmd->add_option("--out,-o", plan_out, "Output folder")->required();
+  plan_cmd->add_option("--out,-o", plan.out, "Output folder")->required();
+  plan_cmd->add_flag("--force", plan.force,
+                     "Write into a non-empty --out (removes only TrainSim's own entries)");
   addLogLevel(plan_cmd, plan.log_level);
-  plan_cmd->callback([] { runPlan(plan, plan_out); });
+  plan_cmd->callback([] { runPlan(plan); });
 
   // validate
   static std::string validate_path;
   CLI::App* validate = app.add_subcommand(
-      "validate", "Check a scenario: exit 0 when valid, 2 with one line per problem otherwise");
+      "validate",
+      "Check a scenario and everything a run reads (waypoint file, route, design rules, layout, "
+      "motion): exit 0 when plan and generate will accept it, 2 with one line per problem");
   validate->add_option("SCENARIO", validate_path, "Scenario JSON file, '-' for standard input")
       ->required();
   validate->callback([] { runValidate(validate_path); });

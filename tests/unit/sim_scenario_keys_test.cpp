@@ -215,3 +215,39 @@ TEST(ScenarioKeys, EachKeyIsSpelledOnceAndEveryPathInAMessageExists) {
 
 }  // namespace
 }  // namespace trainsim::sim
+
+namespace trainsim::sim {
+namespace {
+
+// Every number has a physically meaningful range with both ends, so no value a user can type
+// (1e308 for a noise density) reaches the physics; every array a maximum item count.
+void collectUnbounded(const scenario::Param& p, const std::string& path,
+                      std::vector<std::string>& out) {
+  switch (p.type) {
+    case scenario::ParamType::kNumber:
+    case scenario::ParamType::kInteger:
+      if (!p.minimum || !p.maximum || !std::isfinite(*p.minimum) || !std::isfinite(*p.maximum))
+        out.push_back(path);
+      break;
+    case scenario::ParamType::kObject:
+      for (const scenario::Param& f : p.fields)
+        collectUnbounded(f, path.empty() ? f.key : path + "." + f.key, out);
+      break;
+    case scenario::ParamType::kArray:
+      if (!p.max_items)
+        out.push_back(path + " (item count)");
+      collectUnbounded(*p.item, path + "[]", out);
+      break;
+    default:
+      break;
+  }
+}
+
+TEST(ScenarioRanges, EveryNumberHasAMinimumAndAMaximumAndEveryArrayAMaximumSize) {
+  std::vector<std::string> unbounded;
+  collectUnbounded(scenarioSchema().root(), "", unbounded);
+  EXPECT_TRUE(unbounded.empty()) << ::testing::PrintToString(unbounded);
+}
+
+}  // namespace
+}  // namespace trainsim::sim

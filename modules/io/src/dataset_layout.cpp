@@ -47,6 +47,17 @@ std::vector<std::string> DatasetLayout::ownEntries() {
           kDesignReport, kClasses,  kSequences, kStateDir};
 }
 
+bool DatasetLayout::isInside(const std::filesystem::path& relative) {
+  if (relative.empty() || relative.has_root_path())
+    return false;
+  for (const auto& part : relative) {
+    const std::string s = part.string();
+    if (s.empty() || s == "." || s == "..")
+      return false;
+  }
+  return true;
+}
+
 std::string DatasetLayout::velodyneFolder(int index) {
   return numbered("velodyne", index);
 }

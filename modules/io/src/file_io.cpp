@@ -1,6 +1,7 @@
 #include "trainsim/io/file_io.hpp"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -86,7 +87,7 @@ void writeFileAtomic(const fs::path& path, std::string_view bytes, bool sync) {
   file.commit(sync);
 }
 
-std::string readFile(const fs::path& path) {
+std::string readFile(const fs::path& path, std::size_t max_bytes) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     throw IoError(systemErrorMessage("cannot read", path.string(), errno));
@@ -105,6 +106,11 @@ std::string readFile(const fs::path& path) {
     if (n == 0)
       break;
     out.append(buf, static_cast<std::size_t>(n));
+    if (out.size() > max_bytes) {
+      ::close(fd);
+      throw IoError(
+          fmt::format("cannot read {}: it is larger than {} MiB", path.string(), max_bytes >> 20));
+    }
   }
   ::close(fd);
   return out;

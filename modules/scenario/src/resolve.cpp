@@ -80,8 +80,9 @@ class Resolver {
       if (p.field(key) != nullptr)
         continue;
       const std::string hint = detail::closestMatch(key, keys);
-      problem(join(path, key), hint.empty() ? std::string("unknown key")
-                                            : fmt::format("unknown key; did you mean '{}'?", hint));
+      problem(join(path, messageValue(key)),
+              hint.empty() ? std::string("unknown key")
+                           : fmt::format("unknown key; did you mean '{}'?", hint));
     }
     Json out = Json::object();
     for (const auto& f : p.fields) {
@@ -138,8 +139,9 @@ class Resolver {
             return v;
         }
         const std::string hint = detail::closestMatch(s, p.choices);
-        problem(path, fmt::format("'{}' is not one of {}{}", s, fmt::join(p.choices, ", "),
-                                  hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint)));
+        problem(path,
+                fmt::format("'{}' is not one of {}{}", messageValue(s), fmt::join(p.choices, ", "),
+                            hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint)));
         return p.default_value;
       }
       case ParamType::kInteger: {
@@ -231,6 +233,13 @@ Schema::Resolution Schema::resolve(const Json& input) const {
   if (r.problems.empty()) {
     for (const auto& check : checks_)
       check(r.resolved, r.problems);
+  }
+  // A hostile document can hold a hundred thousand bad keys; nobody reads past the first few.
+  constexpr std::size_t kMaxProblems = 50;
+  if (r.problems.size() > kMaxProblems) {
+    const std::size_t more = r.problems.size() - kMaxProblems;
+    r.problems.resize(kMaxProblems);
+    r.problems.push_back({"", fmt::format("... and {} more problems", more)});
   }
   return r;
 }

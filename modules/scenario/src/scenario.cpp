@@ -3,10 +3,9 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
-#include <sstream>
 
 #include "trainsim/core/hash.hpp"
 
@@ -28,44 +27,28 @@ InvalidScenario::InvalidScenario(std::string source, std::vector<Problem> proble
       problems_(std::move(problems)) {}
 
 std::string readScenarioText(const std::string& path) {
-  if (path == "-") {
-    return std::string(std::istreambuf_iterator<char>(std::cin), {});
+  std::ifstream file;
+  if (path != "-") {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      throw ConfigError("cannot read scenario " + path + ": it is a folder, not a file");
+    file.open(path, std::ios::binary);
+    if (!file)
+      throw ConfigError(systemErrorMessage("cannot read scenario", path, errno));
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError(systemErrorMessage("cannot read scenario", path, errno));
+  std::istream& in = path == "-" ? std::cin : file;
+  const std::string source = path == "-" ? "standard input" : path;
+  std::string text;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxInputBytes)
+      throw ConfigError(fmt::format("cannot read scenario {}: it is larger than {} MiB", source,
+                                    kMaxInputBytes >> 20));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw ConfigError(systemErrorMessage("cannot read scenario", path, errno));
-  }
-  return text.str();
-}
-
-Json parseJson(std::string_view text, std::string_view source) {
-  try {
-    return Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    // nlohmann reports the byte offset just past the offending character; turn it into the
-    // 1-based line and column an editor shows.
-    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    std::size_t line = 1;
-    std::size_t column = 1;
-    for (std::size_t i = 0; i < offset; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    std::string reason = e.what();
-    if (const auto pos = reason.find(": "); pos != std::string::npos) {
-      reason = reason.substr(pos + 2);  // drop "[json.exception.parse_error.101] ... column N"
-    }
-    throw ConfigError(fmt::format("{}:{}:{}: malformed JSON: {}", source, line, column, reason));
-  }
+  if (in.bad())
+    throw ConfigError(systemErrorMessage("cannot read scenario", source, errno));
+  return text;
 }
 
 Scenario Scenario::resolve(const Json& input, const Schema& schema, std::string source) {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "trainsim/core/error.hpp"
+
 namespace trainsim::scenario::detail {
 
 std::size_t editDistance(std::string_view a, std::string_view b) {
@@ -29,6 +31,8 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
 
 std::string closestMatch(std::string_view word, const std::vector<std::string>& candidates) {
   std::string best;
+  if (word.size() > 128)  // no key is that long; and the distance costs size x size
+    return best;
   std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
   for (const auto& c : candidates) {
     const std::size_t dist = editDistance(word, c);
@@ -41,12 +45,7 @@ std::string closestMatch(std::string_view word, const std::vector<std::string>& 
 }
 
 std::string describeValue(const Json& value) {
-  std::string text = value.dump();
-  constexpr std::size_t kMax = 40;
-  if (text.size() > kMax) {
-    text = text.substr(0, kMax - 3) + "...";
-  }
-  return text;
+  return messageValue(value.dump(), 40);
 }
 
 std::string formatNumber(double value) {

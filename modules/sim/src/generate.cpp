@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "trainsim/core/cancel.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/version.hpp"
 #include "trainsim/sim/config.hpp"
@@ -78,6 +79,14 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   // Pipeline stages (docs/REFERENCES.md P1) that are not built yet, from the stage table; the
   // manifest and the CLI report them, so no run pretends.
   std::vector<std::string> not_run = stagesNotRun();
+  // The output folder is judged before the plan, so a bad --out costs nothing.
+  if (io::checkOutputFolder(options.out, options.policy, {scenario.hash(), scenario.seed()}) ==
+      io::OutputFolder::kComplete) {
+    GenerateReport report;
+    report.already_complete = true;
+    return report;
+  }
+  const CancelScope cancel(options.cancel);
   const std::unique_ptr<Plan> plan = makePlan(scenario);
   const SensorContext context =
       makeSensorContext(scenario, plan->trajectory(), &plan->route().route, &plan->layout());

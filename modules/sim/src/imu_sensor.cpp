@@ -128,39 +128,47 @@ struct ImuConfig {
   }
 };
 
-// The custom error terms of a triad; `u` is its unit in keys ("m_s2", "rad_s").
+// The custom error terms of a triad; `u` is its unit in keys ("m_s2", "rad_s"). Every term has
+// a maximum well beyond any real sensor's (consumer MEMS: about 2e-3 m/s^2/sqrt(Hz) and
+// 2e-4 rad/s/sqrt(Hz)), so that no value can push a reading out of double's range.
 scenario::Binding<inertial::TriadSpec> triadBinding(const std::string& u, bool gyro) {
   using T = inertial::TriadSpec;
   scenario::Binding<T> b;
+  // An accelerometer's limits in m/s^2, a gyroscope's a tenth of them in rad/s.
+  const double k = gyro ? 0.1 : 1.0;
   const auto add = [&](const std::string& key, double T::*m, const std::string& unit,
-                       const std::string& description, scenario::Unit conversion = units::kNone,
+                       const std::string& description, double maximum,
+                       scenario::Unit conversion = units::kNone,
                        std::optional<scenario::Sentinel> sentinel = std::nullopt) {
     scenario::Param& p = b.number(key, m, conversion, description, sentinel);
     p.unit = unit;
-    p.range(0, std::nullopt);
+    p.range(0, maximum);
     return &p;
   };
-  add("noise_density_" + u + "_rthz", &T::noise_density, u + "/sqrt(Hz)", "White noise density N");
-  add("random_walk_" + u + "_rts", &T::random_walk, u + "/sqrt(s)", "Rate random walk K");
-  add("bias_instability_" + u, &T::bias_instability, u, "Bias instability B (Allan floor 0.664 B)");
+  add("noise_density_" + u + "_rthz", &T::noise_density, u + "/sqrt(Hz)", "White noise density N",
+      k);
+  add("random_walk_" + u + "_rts", &T::random_walk, u + "/sqrt(s)", "Rate random walk K", k);
+  add("bias_instability_" + u, &T::bias_instability, u, "Bias instability B (Allan floor 0.664 B)",
+      k);
   add("bias_instability_tau_s", &T::bias_instability_tau_s, "s",
       "Cluster time tau0 of the flicker floor: Allan deviation 0.664 B at tau0, flat within "
       "2.5 % from tau0/100 to 1000 tau0, falling off as sqrt(tau) below and as 1/sqrt(tau) far "
-      "above (eight Gauss-Markov terms, one decade apart)")
+      "above (eight Gauss-Markov terms, one decade apart)",
+      1e6)
       ->range(0.01, 1e6);
-  add("turn_on_bias_" + u, &T::turn_on_bias, u, "1-sigma per-run constant bias");
-  add("scale_factor_ppm", &T::scale_factor, "ppm", "1-sigma per-run scale-factor error",
+  add("turn_on_bias_" + u, &T::turn_on_bias, u, "1-sigma per-run constant bias", 10 * k);
+  add("scale_factor_ppm", &T::scale_factor, "ppm", "1-sigma per-run scale-factor error", 1e5,
       units::kPpm);
-  add("misalignment_mrad", &T::misalignment_rad, "mrad", "1-sigma per-run cross-axis coupling",
+  add("misalignment_mrad", &T::misalignment_rad, "mrad", "1-sigma per-run cross-axis coupling", 100,
       units::kMilliradian);
-  add("range_" + u, &T::range, u, "Saturation at +-range; 0: none", units::kNone,
+  add("range_" + u, &T::range, u, "Saturation at +-range; 0: none", 2000 * k, units::kNone,
       scenario::Sentinel{0.0, std::numeric_limits<double>::infinity()});
-  add("resolution_" + u, &T::resolution, u, "Quantization step (LSB); 0: none");
+  add("resolution_" + u, &T::resolution, u, "Quantization step (LSB); 0: none", k);
   add("temperature_coefficient_" + u + "_k", &T::temperature_coefficient, u + "/K",
-      "Bias per kelvin");
+      "Bias per kelvin", 0.1 * k);
   if (gyro)
     add("g_sensitivity_rad_s_per_m_s2", &T::g_sensitivity, "(rad/s)/(m/s^2)",
-        "1-sigma of each g-sensitivity term");
+        "1-sigma of each g-sensitivity term", 0.01);
   return b;
 }
 

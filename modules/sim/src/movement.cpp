@@ -51,11 +51,32 @@ MovementReport runMovement(const Trajectory& trajectory,
     strides.push_back(s->period() / ts);
   }
 
+  const std::int64_t every = std::max<std::int64_t>(1, options.checkpoint_every_samples);
   const std::int64_t first = writer.resumeSample();
   const nlohmann::json& saved = writer.resumeState();
+  // A checkpoint is the user's file: it is checked against this run before it is used.
+  const auto refuse = [&](const std::string& why) {
+    throw ConfigError(fmt::format("cannot resume from {}: {}; pass --force to start over",
+                                  writer.checkpointFile().string(), why));
+  };
+  if (first > count || (first % every != 0 && first != count))
+    refuse(
+        fmt::format("next_sample {} is not a frame boundary of this run ({} samples, a frame "
+                    "every {})",
+                    first, count, every));
+  if (first > 0 && !saved.is_object())
+    refuse("its state is not an object");
   for (auto& s : sensors) {
     const std::string name = s->name();
-    s->begin(writer, saved.is_object() && saved.contains(name) ? saved.at(name) : nlohmann::json());
+    const bool has = first > 0 && saved.contains(name);
+    try {
+      s->begin(writer, has ? saved.at(name) : nlohmann::json());
+    } catch (const nlohmann::json::exception& e) {
+      refuse(
+          fmt::format("the state of sensor {} is damaged ({})", name, messageValue(e.what(), 120)));
+    }
+    if (first > 0 && !has && !s->state().is_null())
+      refuse(fmt::format("it holds no state for sensor {}", name));
   }
   auto state = [&] {
     nlohmann::json all = nlohmann::json::object();
@@ -77,7 +98,6 @@ MovementReport runMovement(const Trajectory& trajectory,
 
   if (options.progress)
     options.progress->begin("simulate", count, "samples", first);
-  const std::int64_t every = std::max<std::int64_t>(1, options.checkpoint_every_samples);
   // The first failure (a sensor's exception, or Cancelled) stops the source, lets the chunks in
   // flight drain without work, and is rethrown after the pipeline: no exception crosses TBB, so
   // no chunk in flight is left undestroyed.

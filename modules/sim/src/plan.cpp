@@ -8,11 +8,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/hash.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/io/dataset_layout.hpp"
+#include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/schema.hpp"
@@ -241,16 +243,19 @@ Plan Planner::plan(const scenario::Scenario& sc) {
   const std::lock_guard lock(mutex_);
   const std::uint64_t route_key = stageKey(sc, "route", {});
   if (!route_ || route_->key != route_key) {
+    throwIfCancelled();
     route_ = buildRoute(sc, route_key);
     ++route_builds_;
   }
   const std::uint64_t layout_key = stageKey(sc, "layout", {route_key});
   if (!layout_ || layout_->key != layout_key) {
+    throwIfCancelled();
     layout_ = buildLayoutStage(sc, *route_, layout_key);
     ++layout_builds_;
   }
   const std::uint64_t motion_key = stageKey(sc, "motion", {route_key});
   if (!motion_ || motion_->key != motion_key) {
+    throwIfCancelled();
     motion_ = buildMotion(sc, route_, motion_key);
     ++motion_builds_;
   }
@@ -452,6 +457,32 @@ void writePlan(const Plan& plan, const std::filesystem::path& folder) {
   stream(io::DatasetLayout::kRailroad, &writeRailroadJson);
   io::writeFileAtomic(folder / io::DatasetLayout::kDesignReport, designReportJson(plan));
   stream(io::DatasetLayout::kTrajectory, &writeTrajectoryCsv);
+}
+
+void writePlanFolder(const Plan& plan, const scenario::Scenario& scenario,
+                     const std::filesystem::path& out, bool force) {
+  namespace fs = std::filesystem;
+  const io::OutputFolder state = io::checkOutputFolder(out, {force, false});
+  std::error_code ec;
+  const bool created = !fs::exists(out, ec);
+  try {
+    if (state == io::OutputFolder::kStartOver)
+      io::removeOwnEntries(out);
+    fs::create_directories(out, ec);
+    if (ec)
+      throw IoError("cannot create folder " + out.string() + ": " + ec.message());
+    io::writeFileAtomic(out / io::DatasetLayout::kScenario, scenario.text());
+    writePlan(plan, out);
+  } catch (...) {
+    if (created) {
+      fs::remove_all(out, ec);
+    } else {
+      for (const char* f : {io::DatasetLayout::kScenario, io::DatasetLayout::kRailroad,
+                            io::DatasetLayout::kDesignReport, io::DatasetLayout::kTrajectory})
+        fs::remove(out / f, ec);
+    }
+    throw;
+  }
 }
 
 scenario::Json blockListJson(const track::Route& route) {

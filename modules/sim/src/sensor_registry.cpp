@@ -46,12 +46,13 @@ constexpr std::array<SensorKind, 4> kSensorKinds = {
 
 constexpr const char* kSensors = "sensors";
 
-bool safeFileName(const std::string& name) {
-  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-')
+// A sensor name becomes file names (and folder names, topics, column prefixes): an identifier
+// [a-z][a-z0-9_]{0,63}, which no file system, shell or dataset reader misreads.
+bool isIdentifier(const std::string& name) {
+  if (name.empty() || name.size() > 64 || !(name.front() >= 'a' && name.front() <= 'z'))
     return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-           c == '-' || c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
   });
 }
 }  // namespace
@@ -96,7 +97,7 @@ const scenario::Json* findSensorConfig(const scenario::Json& scenario, const std
 void addSensorsSection(scenario::Schema& schema) {
   std::vector<scenario::Param> kinds;
   for (const SensorKind& kind : sensorKinds())
-    kinds.push_back(scenario::array(kind.key, kind.description, kind.declare()));
+    kinds.push_back(scenario::array(kind.key, kind.description, kind.declare()).maxItems(16));
   schema.add(scenario::object(kSensors, "Simulated sensors, a list per kind.", std::move(kinds)));
   schema.addCheck(checkSensorNames);
   schema.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
@@ -117,11 +118,11 @@ void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Prob
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string path = fmt::format("{}.{}[{}]", kSensors, kind.key, i);
       const std::string name = readSensorName(list[i]);
-      if (!safeFileName(name)) {
+      if (!isIdentifier(name)) {
         problems.push_back(
-            {path + ".name", fmt::format("'{}' is not a safe file name: use 1 to 64 letters, "
-                                         "digits, '_', '-' or '.', not starting with '.' or '-'",
-                                         name)});
+            {path + ".name", fmt::format("'{}' is not a sensor name: use 1 to 64 lower-case "
+                                         "letters, digits and '_', starting with a letter",
+                                         messageValue(name))});
         continue;
       }
       if (const auto [it, fresh] = names.emplace(name, path); !fresh) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "trainsim/core/error.hpp"
 
@@ -90,7 +91,13 @@ Eigen::Vector2d gaussLegendre(const Heading& heading, double a, double b) {
 
 // Adaptive bisection: accept a panel when the two-half estimate differs from the whole-panel
 // estimate by less than its share of the tolerance. That difference bounds the error of the
-// coarser estimate, so it over-bounds the error of the finer one that is returned.
+// coarser estimate, so it over-bounds the error of the finer one that is returned. No panel
+// is asked for less than its rounding floor: the heading θ carries an error of about ε·|θ|, so
+// a panel of length h cannot be known better than ε·|θ|·h, whatever the tolerance; without this
+// floor a panel far along a tight spiral would split 2^40 times. The depth bounds the work of a
+// call to 2^24 panels whatever the input.
+constexpr int kMaxDepth = 24;
+
 template <typename Heading>
 Eigen::Vector2d adaptive(const Heading& heading, double a, double b, const Eigen::Vector2d& whole,
                          double tolerance, int depth) {
@@ -98,7 +105,9 @@ Eigen::Vector2d adaptive(const Heading& heading, double a, double b, const Eigen
   const Eigen::Vector2d left = gaussLegendre(heading, a, m);
   const Eigen::Vector2d right = gaussLegendre(heading, m, b);
   const Eigen::Vector2d both = left + right;
-  if ((both - whole).norm() <= tolerance || depth >= 40)
+  const double floor =
+      64.0 * std::numeric_limits<double>::epsilon() * (1.0 + std::abs(heading(m))) * (b - a);
+  if ((both - whole).norm() <= std::max(tolerance, floor) || depth >= kMaxDepth)
     return both;
   return adaptive(heading, a, m, left, tolerance / 2, depth + 1) +
          adaptive(heading, m, b, right, tolerance / 2, depth + 1);

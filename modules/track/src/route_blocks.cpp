@@ -49,8 +49,12 @@ DesignedRoute buildBlockRoute(const std::vector<BlockSpec>& blocks, const RouteO
         b.transition_m >= 0.0 ? b.transition_m : detail::transitionFor(rules, v, b.radius_m, cant);
     if (b.length_m <= 0.0 && transition <= 0.0)
       fail("a curve needs an arc or transitions of positive length");
-    builder.curve(b.direction == Turn::kLeft ? b.radius_m : -b.radius_m, b.length_m, transition,
-                  cant);
+    try {
+      builder.curve(b.direction == Turn::kLeft ? b.radius_m : -b.radius_m, b.length_m, transition,
+                    cant);
+    } catch (const ConfigError& e) {
+      fail(e.what());
+    }
   }
   const double length = builder.chainage();
   pvis.push_back({length, pvis.back().z_m + grade * (length - pvis.back().chainage_m), 0.0});

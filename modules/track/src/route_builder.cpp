@@ -1,7 +1,12 @@
 #include "route_builder.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include "trainsim/core/error.hpp"
 
 namespace trainsim::track::detail {
 
@@ -44,6 +49,18 @@ void RouteBuilder::flush() {
 void RouteBuilder::curve(double signed_radius_m, double arc_length_m, double transition_m,
                          double cant_m) {
   flush();
+  // A transition turns the track by L/2R (clothoid and Bloss alike). Past a right angle it is
+  // no railway but a spiral winding on itself (a 10 m radius with the transition a 200 km/h
+  // design asks for turns it some 750 times): refuse it rather than plan it.
+  const double turn = transition_m / (2.0 * std::abs(signed_radius_m));
+  if (turn > std::numbers::pi / 2.0) {
+    const double begin = blocks_.empty() ? 0.0 : blocks_.back().chainage_end_m;
+    throw ConfigError(fmt::format(
+        "curve at chainage {:.0f} m: its {:.0f} m transitions to a {:g} m radius turn the track by "
+        "{:.0f} degrees each (at most 90): use a larger radius, a shorter transition or a lower "
+        "design speed",
+        begin, transition_m, std::abs(signed_radius_m), turn * 180.0 / std::numbers::pi));
+  }
   const double k = 1.0 / signed_radius_m;
   // Bank into the curve: a left-hand curve (k > 0) raises the right rail (negative cant).
   const double d = k > 0.0 ? -std::abs(cant_m) : std::abs(cant_m);

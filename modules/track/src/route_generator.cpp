@@ -30,6 +30,15 @@ void checkParams(const RouteGeneratorParams& p, const DesignRules& rules) {
     if (s->length_min_m > s->length_max_m)
       fail("a special block has length_min_m larger than length_max_m");
   }
+  if (p.radius_min_m > p.radius_max_m)
+    fail(fmt::format("radius_min_m ({:g} m) is larger than radius_max_m ({:g} m)", p.radius_min_m,
+                     p.radius_max_m));
+  const double design_min = rules.minRadius(rules.design_speed_m_s);
+  if (design_min > p.radius_max_m)
+    fail(fmt::format(
+        "radius_max_m ({:g} m) is below the smallest radius design.design_speed_km_h allows "
+        "({:.0f} m): raise it or lower the design speed",
+        p.radius_max_m, design_min));
 }
 
 }  // namespace

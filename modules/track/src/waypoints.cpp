@@ -43,11 +43,14 @@ std::vector<std::string> splitCsv(const std::string& line) {
   return out;
 }
 
+// A million waypoints; a longer file is a mistake (a point cloud, a log), not a route.
+constexpr std::size_t kMaxWaypointFileBytes = std::size_t{64} << 20;
+
 std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
                                     const GeodeticAnchor& anchor) {
   std::string text;
   try {
-    text = io::readFile(csv);
+    text = io::readFile(csv, kMaxWaypointFileBytes);
   } catch (const IoError& e) {  // a missing or unreadable input file is bad input: exit 2
     throw ConfigError(std::string("waypoint file: ") + e.what());
   }
@@ -56,6 +59,7 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
   std::string line;
   int number = 0;
   std::map<std::string, std::size_t> column;
+  std::size_t header_fields = 0;
   std::vector<Waypoint> points;
   bool ned = false;
   while (std::getline(in, line)) {
@@ -66,7 +70,10 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
     const std::vector<std::string> fields = splitCsv(t);
     if (column.empty()) {
       for (std::size_t i = 0; i < fields.size(); ++i)
-        column[fields[i]] = i;
+        if (!column.emplace(fields[i], i).second)
+          throw ConfigError(fmt::format("{}:{}: the header names column '{}' twice", where, number,
+                                        messageValue(fields[i])));
+      header_fields = fields.size();
       ned = column.count("n_m") && column.count("e_m") && column.count("d_m");
       const bool lla = column.count("latitude_deg") && column.count("longitude_deg") &&
                        (column.count("height_m") || column.count("altitude_m"));
@@ -74,9 +81,13 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
         throw ConfigError(
             fmt::format("{}:{}: the header needs the columns n_m,e_m,d_m or "
                         "latitude_deg,longitude_deg,height_m (got '{}')",
-                        where, number, t));
+                        where, number, messageValue(t)));
       continue;
     }
+    if (fields.size() > header_fields)
+      throw ConfigError(fmt::format(
+          "{}:{}: {} fields, but the header names {} columns (a decimal comma? use '.')", where,
+          number, fields.size(), header_fields));
     auto number_at = [&](const std::string& name, bool required) -> std::optional<double> {
       const auto it = column.find(name);
       if (it == column.end() || it->second >= fields.size() || fields[it->second].empty()) {
@@ -88,8 +99,8 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       double value = 0.0;
       const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), value);
       if (ec != std::errc() || end != f.data() + f.size() || !std::isfinite(value))
-        throw ConfigError(
-            fmt::format("{}:{}: column '{}': '{}' is not a number", where, number, name, f));
+        throw ConfigError(fmt::format("{}:{}: column '{}': '{}' is not a number", where, number,
+                                      messageValue(name), messageValue(f)));
       return value;
     };
     Waypoint w;
@@ -121,7 +132,7 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       else if (!(b.empty() || type == BlockType::kStraight || type == BlockType::kCurve))
         throw ConfigError(fmt::format(
             "{}:{}: column 'block': '{}' is not one of station, tunnel, bridge, straight, curve",
-            where, number, b));
+            where, number, messageValue(b)));
     }
     points.push_back(w);
   }

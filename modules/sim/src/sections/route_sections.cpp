@@ -56,6 +56,7 @@ const Binding<RouteGeneratorParams>& generatorBinding() {
     b.number("grade_length_max_m", &G::grade_length_max_m, kM,
              "Longest distance between grade changes")
         .range(10, 1e6);
+    b.notAbove(&G::radius_min_m, &G::radius_max_m);
     b.notAbove(&G::arc_length_min_m, &G::arc_length_max_m);
     b.notAbove(&G::grade_length_min_m, &G::grade_length_max_m);
     b.check([](const G& g, const scenario::FieldPaths<G>& at, std::vector<Problem>& out) {
@@ -143,7 +144,8 @@ const scenario::Section<RouteConfig>& routeSection() {
              "Seeded random route (route.source = generated).");
     b.array("blocks", &RouteConfig::blocks, blockBinding(), "One block of the main track.",
             "The main track block by block, starting east at the origin (route.source = "
-            "blocks).");
+            "blocks).")
+        .maxItems(100'000);
     b.check([](const RouteConfig& c, const scenario::FieldPaths<RouteConfig>& at,
                std::vector<Problem>& out) {
       const std::string source = at(c.source) + " is \"" + std::string(nameOf(c.source)) + "\"";

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace trainsim {
 
@@ -43,6 +44,10 @@ enum ExitCode : int { kExitOk = 0, kExitRuntime = 1, kExitInvalidInput = 2 };
 
 /// Exit code for an exception: 2 for ConfigError, 1 for everything else.
 int exitCodeFor(const std::exception& error) noexcept;
+
+/// A value from the input as a message should show it: control characters escaped (a message
+/// is one line), cut to `max` characters with "..." so a megabyte-long value is not echoed.
+std::string messageValue(std::string_view text, std::size_t max = 48);
 
 /// "<what>: <strerror(errno_value)>" for an IoError about `path`.
 std::string systemErrorMessage(const std::string& what, const std::string& path, int errno_value);

@@ -52,6 +52,10 @@ class DatasetLayout {
   static std::vector<std::string> sequenceFiles();
   /// Top-level entries TrainSim writes into a dataset folder (and may remove with --force).
   static std::vector<std::string> ownEntries();
+  /// Whether `relative` stays inside the dataset root: relative, no "..", no empty or "."
+  /// component. Every path the writers open is checked (defence in depth behind the
+  /// scenario's name rules).
+  static bool isInside(const std::filesystem::path& relative);
 
   /// Folders of LiDAR `index` (0 = the first) in the sequence folder: velodyne, velodyne_1, …
   /// and labels, labels_1, … (KITTI and SemanticKITTI read the first pair unchanged).

@@ -27,6 +27,26 @@ struct RunIdentity {
   std::uint64_t seed = 0;
 };
 
+/// What a run will do with its output folder.
+enum class OutputFolder {
+  kNew,        ///< missing or empty: created or used as it is
+  kStartOver,  ///< --force: TrainSim's own entries are removed first
+  kResume,     ///< --resume of an interrupted run of the same scenario and seed
+  kComplete,   ///< --resume of a complete dataset of the same scenario and seed: nothing to do
+};
+
+/// Checks `root` against the folder rules (below) without touching it, so that `plan` and
+/// `generate` refuse a bad --out before they plan: ConfigError (exit 2) for an empty name, a
+/// path naming a file or lying below one, a non-empty folder that is not TrainSim's without
+/// --force, a dataset or interrupted run without --force or --resume, or --resume of another
+/// scenario or seed; IoError (exit 1) if the folder, or the one it would be made in, cannot be
+/// written. `identity` is compared on --resume only.
+OutputFolder checkOutputFolder(const std::filesystem::path& root, const OutputPolicy& policy,
+                               const RunIdentity& identity = {});
+
+/// Removes TrainSim's own entries (DatasetLayout::ownEntries) from `root`, nothing else (--force).
+void removeOwnEntries(const std::filesystem::path& root);
+
 /// Owns the dataset folder (its paths: DatasetLayout; behaviour: docs/ARCHITECTURE.md,
 /// "The dataset folder"): creates its layout, writes every file atomically, records checkpoints
 /// so that a killed run can be resumed byte-identically, and writes manifest.json last, as the
@@ -39,7 +59,10 @@ struct RunIdentity {
 /// system failures throw IoError (exit 1) naming the file.
 ///
 /// While a run is in progress the folder holds `.trainsim/checkpoint.json`; it is removed when
-/// the dataset is complete.
+/// the dataset is complete. A run that fails or is cancelled before its first frame is complete
+/// removes what it created (the folder itself if it made it); after that the folder keeps the
+/// complete frames, can be continued with --resume, and the writer says so. A checkpoint is
+/// trusted only after it is checked against the files it lists: every refusal names it.
 class DatasetWriter {
  public:
   enum class Start { kFresh, kResume, kAlreadyComplete };
@@ -61,7 +84,11 @@ class DatasetWriter {
   std::int64_t resumeSample() const { return resume_sample_; }
   const nlohmann::json& resumeState() const { return resume_state_; }
 
-  /// Writes `relative` (a path inside the dataset) atomically, creating its folder.
+  /// The checkpoint file, for messages.
+  std::filesystem::path checkpointFile() const;
+
+  /// Writes `relative` (a path inside the dataset) atomically, creating its folder. Every path
+  /// must stay inside the dataset (DatasetLayout::isInside), else RuntimeError.
   void writeFile(const std::filesystem::path& relative, std::string_view bytes);
 
   /// An append-only file inside the dataset; on resume it is cut back to its checkpointed
@@ -76,10 +103,11 @@ class DatasetWriter {
   void finish(const nlohmann::json& manifest);
 
  private:
-  void prepare(const RunIdentity& identity, const OutputPolicy& policy);
   void startOver();
-  void loadCheckpoint(const RunIdentity& identity);
+  void loadCheckpoint();
   void rollBack() noexcept;
+  void removeCreated() noexcept;
+  std::filesystem::path inside(const std::filesystem::path& relative) const;
 
   std::filesystem::path root_;
   DatasetLayout layout_;
@@ -93,6 +121,8 @@ class DatasetWriter {
   std::map<std::string, std::int64_t> committed_lengths_;
   std::map<std::string, std::unique_ptr<AppendFile>> append_files_;
   bool finished_ = false;
+  bool created_root_ = false;          ///< the folder did not exist before this run
+  std::int64_t committed_sample_ = 0;  ///< next_sample of the last checkpoint
 };
 
 }  // namespace trainsim::io

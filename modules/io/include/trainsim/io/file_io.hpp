@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -38,8 +39,10 @@ class AtomicFile {
   std::string buffer_;
 };
 
-/// Reads a whole file; throws IoError naming it on failure.
-std::string readFile(const std::filesystem::path& path);
+/// Reads a whole file; throws IoError naming it on failure, or when it holds more than
+/// `max_bytes` (an input that size is a mistake, not data).
+std::string readFile(const std::filesystem::path& path,
+                     std::size_t max_bytes = std::numeric_limits<std::size_t>::max());
 
 /// True for the hidden temporary files writeFileAtomic() creates (left behind only by a
 /// process that was killed).

@@ -22,11 +22,19 @@ class InvalidScenario : public ConfigError {
   std::vector<Problem> problems_;
 };
 
+/// Bounds on every JSON document TrainSim reads from a user: its size and its nesting depth (a
+/// scenario nests five levels deep; nothing recurses on input without a bound).
+inline constexpr std::size_t kMaxInputBytes = std::size_t{16} << 20;
+inline constexpr std::size_t kMaxJsonDepth = 64;
+
 /// Reads a scenario file, or standard input when `path` is "-". Throws ConfigError naming the
-/// file when it cannot be read.
+/// file when it cannot be read, is a folder or is larger than kMaxInputBytes.
 std::string readScenarioText(const std::string& path);
 
-/// Parses JSON text. Throws ConfigError "<source>:<line>:<column>: malformed JSON: <reason>".
+/// Parses JSON text, bounded: throws ConfigError "<source>:<line>:<column>: <reason>" for
+/// malformed JSON, a number out of double's range, nesting deeper than kMaxJsonDepth, and a
+/// key that appears twice in one object (naming both lines); "<source>: ..." for text larger
+/// than kMaxInputBytes.
 Json parseJson(std::string_view text, std::string_view source);
 
 /// A fully resolved scenario: validated, every default filled in. This is what runs and what

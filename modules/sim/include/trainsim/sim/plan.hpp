@@ -155,4 +155,11 @@ scenario::Json blockListJson(const track::Route& route);
 /// and streamed (io::AtomicFile), so memory does not grow with the route.
 void writePlan(const Plan& plan, const std::filesystem::path& folder);
 
+/// `trainsim plan`: writes scenario.json and the plan (writePlan) into `out` under the folder
+/// rules every run follows (io::checkOutputFolder: a foreign non-empty folder only with
+/// `force`, which removes TrainSim's own entries only). Whatever fails, nothing half-written
+/// stays: a folder it created goes again, in an existing one the files it began are removed.
+void writePlanFolder(const Plan& plan, const scenario::Scenario& scenario,
+                     const std::filesystem::path& out, bool force);
+
 }  // namespace trainsim::sim
