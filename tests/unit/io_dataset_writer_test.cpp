@@ -89,6 +89,18 @@ TEST_F(AtomicWrite, AppendFileFlushesAndTruncates) {
 
 const RunIdentity kRun{"0123456789abcdef", 42};
 
+// No NaN or infinity reaches an output: a formatted non-finite field is refused, words that
+// merely contain the letters are not.
+TEST_F(AtomicWrite, NonFiniteFieldsAreRefused) {
+  for (const char* bad : {"1,nan,2\n", "1,-nan\n", "inf,0\n", "0,-inf\n", "[1,inf]"})
+    EXPECT_THROW(requireFinite(bad, "x.csv"), RuntimeError) << bad;
+  for (const char* good : {"t_ns,info,finance,nano\n", "1e-9,2.5\n", "[1,2]"})
+    EXPECT_NO_THROW(requireFinite(good, "x.csv")) << good;
+  AppendFile f(root_ / "a.csv");
+  EXPECT_THROW(f.write("0,nan\n"), RuntimeError);
+  EXPECT_EQ(f.flush(), 0);
+}
+
 TEST_F(Dataset, FreshRunCreatesLayoutAndFinishRemovesCheckpoint) {
   const fs::path out = root_ / "out";
   {
@@ -166,6 +178,68 @@ TEST_F(Dataset, AbandonedRunRollsAppendFilesBackToLastCheckpoint) {
   }  // destroyed without finish(): an exception unwound the run
   EXPECT_EQ(readFile(root_ / "sequences/00/gnss.csv"), "a\n");
   EXPECT_FALSE(fs::exists(root_ / "manifest.json"));
+}
+
+// Defence in depth behind the scenario's name rules: no path the writer is handed can leave the
+// dataset folder, whatever a sensor asks for.
+TEST_F(Dataset, EveryPathStaysInsideTheFolder) {
+  DatasetWriter w(root_ / "out", DatasetLayout(0), kRun, {});
+  for (const char* bad : {"../escape.csv", "sequences/00/../../../x.csv", "/tmp/abs.csv", "",
+                          "sequences/./00/x.csv"}) {
+    EXPECT_THROW(w.appendFile(bad), RuntimeError) << bad;
+    EXPECT_THROW(w.writeFile(bad, "x"), RuntimeError) << bad;
+  }
+  EXPECT_FALSE(fs::exists(root_ / "escape.csv"));
+  EXPECT_FALSE(fs::exists("/tmp/abs.csv"));
+  EXPECT_TRUE(DatasetLayout::isInside("sequences/00/imu.csv"));
+}
+
+// An append file that cannot be opened (a name longer than the file system allows) is an
+// IoError naming it, not a crash; the run had no complete frame, so the folder it made goes.
+TEST_F(Dataset, AppendFileThatCannotBeOpenedFailsCleanlyAndTheRunLeavesNothing) {
+  {
+    DatasetWriter w(root_ / "out", DatasetLayout(0), kRun, {});
+    const std::string long_name = "sequences/00/" + std::string(300, 'x') + ".csv";
+    EXPECT_THROW(w.appendFile(long_name), IoError);
+    w.appendFile("sequences/00/ok.csv").write("a\n");
+  }
+  EXPECT_FALSE(fs::exists(root_ / "out"));
+}
+
+// In a folder that existed (empty), a run failing before its first frame leaves it empty.
+TEST_F(Dataset, RunFailingBeforeItsFirstFrameLeavesAnExistingFolderAsItWas) {
+  {
+    DatasetWriter w(root_, DatasetLayout(0), kRun, {});
+    w.writeFile("scenario.json", "{}");
+    w.appendFile("sequences/00/imu.csv").write("header\n");
+  }
+  EXPECT_TRUE(fs::exists(root_));
+  EXPECT_TRUE(fs::is_empty(root_));
+}
+
+// --resume trusts no checkpoint: a file it records that is gone or shorter, or a length that is
+// not a byte count, is refused naming the checkpoint.
+TEST_F(Dataset, ResumeChecksTheCheckpointAgainstItsFiles) {
+  {
+    DatasetWriter w(root_, DatasetLayout(0), kRun, {});
+    w.appendFile("sequences/00/imu.csv").write("header\nrow1\n");
+    w.checkpoint(5, {{"imu", 1}});
+  }
+  const fs::path imu = root_ / "sequences/00/imu.csv";
+  const auto refused = [&](const std::string& why) {
+    try {
+      DatasetWriter(root_, DatasetLayout(0), kRun, {.resume = true});
+      ADD_FAILURE() << "resumed despite " << why;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find((root_ / ".trainsim/checkpoint.json").string()),
+                std::string::npos)
+          << e.what();
+    }
+  };
+  fs::resize_file(imu, 4);
+  refused("a shortened file");
+  fs::remove(imu);
+  refused("a deleted file");
 }
 
 }  // namespace

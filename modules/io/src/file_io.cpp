@@ -31,6 +31,21 @@ void writeAll(int fd, std::string_view bytes, const fs::path& name) {
 
 }  // namespace
 
+void requireFinite(std::string_view text, std::string_view file) {
+  const auto separator = [](char c) {
+    return c == ',' || c == '[' || c == ']' || c == ' ' || c == '\n' || c == '-' || c == '+';
+  };
+  for (const std::string_view word : {std::string_view("nan"), std::string_view("inf")}) {
+    for (std::size_t at = text.find(word); at != std::string_view::npos;
+         at = text.find(word, at + 1)) {
+      const std::size_t end = at + word.size();
+      if ((at == 0 || separator(text[at - 1])) && (end == text.size() || separator(text[end])))
+        throw RuntimeError(
+            fmt::format("refusing to write a non-finite value ({}) into {}", word, file));
+    }
+  }
+}
+
 bool isAtomicTemporary(const fs::path& path) {
   const std::string name = path.filename().string();
   return !name.empty() && name.front() == '.' && name.find(kTempMarker) != std::string::npos;
@@ -140,6 +155,7 @@ AppendFile::~AppendFile() {
 }
 
 void AppendFile::write(std::string_view text) {
+  requireFinite(text, path_.string());
   buffer_.append(text);
   if (buffer_.size() >= (1u << 20))
     flush();

@@ -287,6 +287,8 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
 
 namespace {
 
+using io::requireFinite;
+
 // To the micrometre, without a negative zero.
 double micro(double v) {
   return std::round(v * 1e6) / 1e6 + 0.0;
@@ -357,10 +359,13 @@ void writeRailroadJson(const Plan& plan, const TextSink& sink) {
                          micro(p.x()), micro(p.y()), micro(p.z()));
           first = false;
           if (points.size() > (1u << 16)) {
+            requireFinite({points.data(), points.size()}, io::DatasetLayout::kRailroad);
             sink({points.data(), points.size()});
             points.clear();
+            throwIfCancelled();
           }
         });
+    requireFinite({points.data(), points.size()}, io::DatasetLayout::kRailroad);
     sink({points.data(), points.size()});
     sink("]}");
   }
@@ -435,10 +440,13 @@ void writeTrajectoryCsv(const Plan& plan, const TextSink& sink) {
                    b.alpha_body.x(), b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
                    route.blockAt(f.chainage_m).id);
     if (out.size() > (1u << 16)) {
+      requireFinite({out.data(), out.size()}, io::DatasetLayout::kTrajectory);
       sink({out.data(), out.size()});
       out.clear();
+      throwIfCancelled();
     }
   }
+  requireFinite({out.data(), out.size()}, io::DatasetLayout::kTrajectory);
   sink({out.data(), out.size()});
 }
 

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "layout_track.hpp"
+#include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/random.hpp"
 
@@ -327,6 +328,7 @@ Layout buildLayout(const Route& route, const LayoutParams& params, std::uint64_t
                                   -std::numeric_limits<double>::infinity()};  // left, right
 
   for (const Stretch& st : eligibleStretches(route)) {
+    throwIfCancelled();
     if (st.b - st.a < 2.0 * min_end + params.aux_parallel_min_m)
       continue;
     for (;;) {

@@ -132,9 +132,13 @@ double MotionProfile::timeAtDistance(double u) const {
                                        [&](const MotionSegment& s) { return end_u(s) < u; });
   if (it == segments_.end())
     return duration();
+  // Bisection to 1 ps or to adjacent doubles, whichever comes first: a segment longer than
+  // 8192 s has no two doubles 1 ps apart, and a bare `while (hi - lo > 1e-12)` never ends.
   double lo = 0.0, hi = it->duration_s;
-  while (hi - lo > 1e-12) {
+  for (int i = 0; i < 128 && hi - lo > 1e-12; ++i) {
     const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi)
+      break;
     const double um = it->u0_m + it->v0_m_s * mid + it->a0_m_s2 * mid * mid / 2.0 +
                       it->jerk_m_s3 * mid * mid * mid / 6.0;
     (um < u ? lo : hi) = mid;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "route_builder.hpp"
+#include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/track/route_design.hpp"
@@ -70,6 +71,7 @@ DesignedRoute generateRoute(const RouteGeneratorParams& params, const RouteOptio
   double heading = 0.0;  // net turn so far; curves lean back towards the start direction
   const double margin = std::max(50.0, 0.5 * min_len);
   while (builder.chainage() < params.length_m) {
+    throwIfCancelled();
     // A straight, possibly holding one station, tunnel or bridge.
     double straight = std::max(min_len, mean_straight * uniform(0.5, 1.5));
     const double pick = rnd.uniform();

@@ -44,6 +44,11 @@ class AtomicFile {
 std::string readFile(const std::filesystem::path& path,
                      std::size_t max_bytes = std::numeric_limits<std::size_t>::max());
 
+/// Throws RuntimeError naming `file` if `text` holds a value printed from a non-finite double
+/// ("nan", "inf", "-nan", "-inf" as a whole field of a CSV row or JSON array): the writers
+/// call it on what they format, so no NaN or infinity reaches an output file.
+void requireFinite(std::string_view text, std::string_view file);
+
 /// True for the hidden temporary files writeFileAtomic() creates (left behind only by a
 /// process that was killed).
 bool isAtomicTemporary(const std::filesystem::path& path);
@@ -60,6 +65,7 @@ class AppendFile {
   AppendFile(const AppendFile&) = delete;
   AppendFile& operator=(const AppendFile&) = delete;
 
+  /// Appends text (whole lines); RuntimeError if it holds a non-finite value (requireFinite).
   void write(std::string_view text);
   /// Writes the buffer out; returns the length of the file. Throws IoError.
   std::int64_t flush();
