@@ -37,9 +37,10 @@ expect_contains "$WORK/err" "holds a plan: pass --force" "second plan refused, e
 
 # --- interrupts during the plan stage -----------------------------------------------------------
 # A 400 km route plans for about 1.5 s and writes its plan files for 10 s more: a signal at any
-# point stops it within a second, and nothing is left (no frame was complete).
+# point stops it within a second (three allowed on a loaded machine), and nothing is left (no
+# frame was complete).
 echo '{"route": {"generator": {"length_m": 400000}}}' >"$WORK/long.json"
-for step in "plan 0.3 INT" "plan 3 TERM" "generate 0.3 TERM" "generate 3 INT"; do
+for step in "plan 0.5 INT" "plan 3 TERM" "generate 0.5 TERM" "generate 3 INT"; do
   set -- $step
   rm -rf "$WORK/cut"
   "$TRAINSIM" "$1" "$WORK/long.json" --out "$WORK/cut" >/dev/null 2>"$WORK/err" &
@@ -51,7 +52,7 @@ for step in "plan 0.3 INT" "plan 3 TERM" "generate 0.3 TERM" "generate 3 INT"; d
   wait "$pid" || code=$?
   took=$((($(date +%s%N) - start) / 1000000))
   [ "$code" -eq 1 ] && pass "$1: SIG$3 after $2 s exits 1" || fail "$1: SIG$3 exit $code"
-  [ "$took" -lt 1500 ] && pass "$1: stopped $took ms after SIG$3" || fail "$1: took $took ms"
+  [ "$took" -lt 3000 ] && pass "$1: stopped $took ms after SIG$3" || fail "$1: took $took ms"
   expect_contains "$WORK/err" "cancelled" "$1: says it was cancelled"
   [ ! -e "$WORK/cut" ] && pass "$1: nothing left after SIG$3" || fail "$1: left $(ls -A "$WORK/cut")"
 done

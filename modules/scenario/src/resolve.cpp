@@ -80,7 +80,7 @@ class Resolver {
       if (p.field(key) != nullptr)
         continue;
       const std::string hint = detail::closestMatch(key, keys);
-      problem(join(path, messageValue(key)),
+      problem(join(path, key.empty() ? std::string("\"\"") : messageValue(key)),
               hint.empty() ? std::string("unknown key")
                            : fmt::format("unknown key; did you mean '{}'?", hint));
     }

@@ -212,6 +212,7 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
                           &TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m)) +
                       ": the route is too short for the train");
   const TrajectoryConfig clock = trajectorySection().read(sc.json());
+  throwIfCancelled();
   const track::MotionProfile run =
       track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_end);
   track::MotionProfile motion =
@@ -219,6 +220,16 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
           ? track::MotionProfile::standstill(
                 u_start, clock.standstill_start_s + clock.standstill_end_s, run.limit())
           : run.withStandstill(clock.standstill_start_s, clock.standstill_end_s);
+  // The run's sample count is bounded before anything is sized by it: a billion samples is a
+  // 2.8-hour run at 10 kHz or 116 days at 100 Hz, beyond any dataset anyone writes.
+  constexpr double kMaxSamples = 1e9;
+  const double samples = motion.duration() / toSeconds(clock.sample_period_ns);
+  if (!(samples <= kMaxSamples))
+    throw ConfigError(fmt::format(
+        "{}: a run of {:.0f} s at this period has {:.3g} samples (at most {:.0e}): raise the "
+        "period or shorten the route",
+        trajectorySection().path(&TrajectoryConfig::sample_period_ns), motion.duration(), samples,
+        kMaxSamples));
   return std::make_shared<MotionStage>(
       MotionStage{key, limits,
                   TrainTrajectory(std::move(route), std::move(motion), vehicle,

@@ -43,6 +43,10 @@ std::vector<std::string> splitCsv(const std::string& line) {
   return out;
 }
 
+constexpr double kMaxWaypointDistance = 2e6;  // m, the longest route a scenario may ask for
+constexpr double kMaxWaypointHeight = 1e4;    // m, above or below the geodetic origin
+constexpr double kMaxWaypointGrade = 0.5;     // 500 per mille
+
 // A million waypoints; a longer file is a mistake (a point cloud, a log), not a route.
 constexpr std::size_t kMaxWaypointFileBytes = std::size_t{64} << 20;
 
@@ -120,6 +124,14 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       const Eigen::Vector2d en = anchor.toAzimuthalEquidistant(lat, lon);
       w.p = {en.x(), en.y(), h - anchor.origin().height_m};
     }
+    // Within the route's reach (2000 km) and the Earth's heights, so that no later sum
+    // overflows or loses the metres.
+    if (w.p.head<2>().norm() > kMaxWaypointDistance || std::abs(w.p.z()) > kMaxWaypointHeight)
+      throw ConfigError(fmt::format(
+          "{}:{}: the waypoint lies {:.3g} m from the origin and {:.3g} m above it (at most "
+          "{:.0f} km and {:.0f} m)",
+          where, number, w.p.head<2>().norm(), w.p.z(), kMaxWaypointDistance / 1e3,
+          kMaxWaypointHeight));
     w.radius_m = number_at("radius_m", false).value_or(0.0);
     w.vertical_radius_m = number_at("vertical_radius_m", false).value_or(0.0);
     if (w.radius_m < 0.0 || w.vertical_radius_m < 0.0)
@@ -152,9 +164,17 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
       w.p.head<2>() *= scale;
   }
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-    if ((points[i + 1].p - points[i].p).head<2>().norm() < 1e-3)
+    const double run = (points[i + 1].p - points[i].p).head<2>().norm();
+    if (run < 1e-3)
       throw ConfigError(fmt::format("{}:{}: waypoint repeats the one on line {}", where,
                                     points[i + 1].line, points[i].line));
+    // Steeper than this is a wall, not a grade (rack railways stop near 250 per mille); the
+    // vertical profile could not even be laid (it would reach a vertical tangent).
+    const double grade = (points[i + 1].p.z() - points[i].p.z()) / run;
+    if (std::abs(grade) > kMaxWaypointGrade)
+      throw ConfigError(fmt::format(
+          "{}:{}: the grade from line {} is {:.0f} per mille (at most {:.0f}): check the heights",
+          where, points[i + 1].line, points[i].line, grade * 1e3, kMaxWaypointGrade * 1e3));
   }
   return points;
 }
