@@ -36,6 +36,16 @@ expect_exit 2 "plan again into its own plan" -- "$TRAINSIM" plan --out "$WORK/us
 expect_contains "$WORK/err" "holds a plan: pass --force" "second plan refused, explained"
 
 # --- interrupts during the plan stage -----------------------------------------------------------
+# Waits until PID catches SIGINT and SIGTERM (bits 2 and 15 of SigCgt), so that a loaded machine
+# starting the process slowly cannot turn the test's signal into a plain kill.
+handlers_installed() {
+  for _ in $(seq 1 500); do
+    mask=$(awk '/^SigCgt:/ {print $2}' "/proc/$1/status" 2>/dev/null || echo 0)
+    [ $((0x${mask:-0} & 0x4002)) -eq $((0x4002)) ] && return 0
+    sleep 0.01
+  done
+}
+
 # A 400 km route plans for about 1.5 s and writes its plan files for 10 s more: a signal at any
 # point stops it within a second (three allowed on a loaded machine), and nothing is left (no
 # frame was complete).
@@ -45,6 +55,7 @@ for step in "plan 0.5 INT" "plan 3 TERM" "generate 0.5 TERM" "generate 3 INT"; d
   rm -rf "$WORK/cut"
   "$TRAINSIM" "$1" "$WORK/long.json" --out "$WORK/cut" >/dev/null 2>"$WORK/err" &
   pid=$!
+  handlers_installed "$pid"
   sleep "$2"
   start=$(date +%s%N)
   kill -"$3" "$pid"
@@ -69,6 +80,7 @@ for attempt in 1 2 3; do
   "$TRAINSIM" generate "$WORK/run.json" --out "$WORK/part" --threads 1 --progress none \
     >/dev/null 2>"$WORK/part.err" &
   pid=$!
+  handlers_installed "$pid"
   for _ in $(seq 1 500); do
     grep -qE '"next_sample": [1-9]' "$WORK/part/.trainsim/checkpoint.json" 2>/dev/null && break
     sleep 0.01
