@@ -103,6 +103,8 @@ if [ "$interrupted" -eq 1 ]; then
       --resume --progress none
     expect_contains "$WORK/err" "$checkpoint" "$what: names the checkpoint"
     expect_contains "$WORK/err" "$text" "$what: says what is wrong"
+    ! grep -q "continue it with --resume" "$WORK/err" && pass "$what: no advice to resume" ||
+      fail "$what: a refused resume advised --resume"
   }
   tamper "a negative next_sample" "next_sample -5 is negative" \
     sed -i -E 's/"next_sample": [0-9]+/"next_sample": -5/' "$checkpoint"

@@ -169,8 +169,10 @@ DatasetWriter::~DatasetWriter() {
     return;
   }
   rollBack();
-  logWarn(fmt::format("{} keeps the run up to sample {}: continue it with --resume (checkpoint {})",
-                      root_.string(), committed_sample_, checkpointFile().string()));
+  if (committed_sample_ > resume_sample_)  // this run got further: say how to go on
+    logWarn(
+        fmt::format("{} keeps the run up to sample {}: continue it with --resume (checkpoint {})",
+                    root_.string(), committed_sample_, checkpointFile().string()));
 }
 
 void DatasetWriter::removeCreated() noexcept {
