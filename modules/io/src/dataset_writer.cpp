@@ -96,10 +96,10 @@ OutputFolder checkOutputFolder(const fs::path& root, const OutputPolicy& policy,
   const bool complete = !interrupted && fs::exists(root / kManifest, ec);
   if (policy.force)
     return OutputFolder::kStartOver;
-  if (!interrupted && !complete && fs::exists(root / DatasetLayout::kRailroad, ec) &&
-      fs::exists(root / DatasetLayout::kDesignReport, ec))
-    throw ConfigError("output " + where + " holds a plan: pass --force to overwrite it");
   if (!interrupted && !complete) {
+    if (fs::exists(root / DatasetLayout::kRailroad, ec) &&
+        fs::exists(root / DatasetLayout::kDesignReport, ec))
+      throw ConfigError("output " + where + " holds a plan: pass --force to overwrite it");
     throw ConfigError("output " + where +
                       " is not empty and was not written by trainsim: choose an empty folder or "
                       "pass --force (which removes only TrainSim's own entries from it)");

@@ -93,7 +93,7 @@ class BoundedDomBuilder {
   bool number_unsigned(number_unsigned_t v) { return put(Json(v)); }
   bool number_float(number_float_t v, const string_t& /*text*/) { return put(Json(v)); }
   bool string(string_t& v) { return put(Json(std::move(v))); }
-  bool binary(binary_t& /*v*/) { return fail("binary values are not JSON"); }
+  bool binary(binary_t& /*v*/) { fail("binary values are not JSON"); }
 
   bool start_object(std::size_t /*elements*/) {
     open(Json::object());
@@ -141,7 +141,7 @@ class BoundedDomBuilder {
   }
 
  private:
-  [[noreturn]] bool fail(std::string_view what) {
+  [[noreturn]] void fail(std::string_view what) {
     const TextPosition p = positionOf(text_, *consumed_);
     throw ConfigError(fmt::format("{}:{}:{}: {}", source_, p.line, p.column, what));
   }

@@ -298,7 +298,35 @@ std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
 
 namespace {
 
-using io::requireFinite;
+// Text formatted into a buffer and handed to a TextSink in pieces of about 64 KiB, so memory
+// does not grow with the route; each piece is checked for non-finite values on its way out,
+// and cancellation is polled between pieces.
+class ChunkedSink {
+ public:
+  ChunkedSink(const TextSink& sink, const char* file) : sink_(sink), file_(file) {}
+  ChunkedSink(const ChunkedSink&) = delete;
+  ChunkedSink& operator=(const ChunkedSink&) = delete;
+
+  fmt::memory_buffer& buffer() { return buffer_; }
+  /// Hands the buffer on once it holds a piece's worth.
+  void handOnIfFull() {
+    if (buffer_.size() > (1u << 16)) {
+      handOn();
+      throwIfCancelled();
+    }
+  }
+  /// Hands on whatever the buffer holds.
+  void handOn() {
+    io::requireFinite({buffer_.data(), buffer_.size()}, file_);
+    sink_({buffer_.data(), buffer_.size()});
+    buffer_.clear();
+  }
+
+ private:
+  const TextSink& sink_;
+  const char* file_;
+  fmt::memory_buffer buffer_;
+};
 
 // To the micrometre, without a negative zero.
 double micro(double v) {
@@ -362,22 +390,16 @@ void writeRailroadJson(const Plan& plan, const TextSink& sink) {
       jt["joins_track"] = t.joins_track;
     text = jt.dump();
     sink(fmt::format("],{},\"polyline_m\":[", std::string_view(text).substr(1, text.size() - 2)));
-    fmt::memory_buffer points;
+    ChunkedSink points(sink, io::DatasetLayout::kRailroad);
     bool first = true;
     track::forEachPolylinePoint(
         plan.route().route.track, t, [&](const Eigen::Vector3d& p, double, double) {
-          fmt::format_to(std::back_inserter(points), "{}\n   [{},{},{}]", first ? "" : ",",
+          fmt::format_to(std::back_inserter(points.buffer()), "{}\n   [{},{},{}]", first ? "" : ",",
                          micro(p.x()), micro(p.y()), micro(p.z()));
           first = false;
-          if (points.size() > (1u << 16)) {
-            requireFinite({points.data(), points.size()}, io::DatasetLayout::kRailroad);
-            sink({points.data(), points.size()});
-            points.clear();
-            throwIfCancelled();
-          }
+          points.handOnIfFull();
         });
-    requireFinite({points.data(), points.size()}, io::DatasetLayout::kRailroad);
-    sink({points.data(), points.size()});
+    points.handOn();
     sink("]}");
   }
   sink("\n ]\n}\n");
@@ -418,8 +440,8 @@ std::string designReportJson(const Plan& plan) {
 void writeTrajectoryCsv(const Plan& plan, const TextSink& sink) {
   const TrainTrajectory& traj = plan.trajectory();
   const track::Route& route = plan.route().route;
-  // Formatted in pieces of about 64 KiB and handed on: memory does not grow with the route.
-  fmt::memory_buffer out;
+  ChunkedSink chunks(sink, io::DatasetLayout::kTrajectory);
+  fmt::memory_buffer& out = chunks.buffer();
   fmt::format_to(std::back_inserter(out),
                  "t_ns,chainage_m,distance_m,speed_m_s,accel_m_s2,jerk_m_s3,speed_limit_m_s,"
                  "front_x_m,front_y_m,front_z_m,rear_x_m,rear_y_m,rear_z_m,x_m,y_m,z_m,"
@@ -450,15 +472,9 @@ void writeTrajectoryCsv(const Plan& plan, const TextSink& sink) {
                    ab.x(), ab.y(), ab.z(), b.w_body.x(), b.w_body.y(), b.w_body.z(),
                    b.alpha_body.x(), b.alpha_body.y(), b.alpha_body.z(), f.curvature_1_m, f.cant_m,
                    route.blockAt(f.chainage_m).id);
-    if (out.size() > (1u << 16)) {
-      requireFinite({out.data(), out.size()}, io::DatasetLayout::kTrajectory);
-      sink({out.data(), out.size()});
-      out.clear();
-      throwIfCancelled();
-    }
+    chunks.handOnIfFull();
   }
-  requireFinite({out.data(), out.size()}, io::DatasetLayout::kTrajectory);
-  sink({out.data(), out.size()});
+  chunks.handOn();
 }
 
 std::string trajectoryCsv(const Plan& plan) {

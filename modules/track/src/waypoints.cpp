@@ -63,7 +63,6 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
   std::string line;
   int number = 0;
   std::map<std::string, std::size_t> column;
-  std::size_t header_fields = 0;
   std::vector<Waypoint> points;
   bool ned = false;
   while (std::getline(in, line)) {
@@ -77,7 +76,6 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
         if (!column.emplace(fields[i], i).second)
           throw ConfigError(fmt::format("{}:{}: the header names column '{}' twice", where, number,
                                         messageValue(fields[i])));
-      header_fields = fields.size();
       ned = column.count("n_m") && column.count("e_m") && column.count("d_m");
       const bool lla = column.count("latitude_deg") && column.count("longitude_deg") &&
                        (column.count("height_m") || column.count("altitude_m"));
@@ -88,10 +86,10 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
                         where, number, messageValue(t)));
       continue;
     }
-    if (fields.size() > header_fields)
+    if (fields.size() > column.size())  // the header's names are unique
       throw ConfigError(fmt::format(
           "{}:{}: {} fields, but the header names {} columns (a decimal comma? use '.')", where,
-          number, fields.size(), header_fields));
+          number, fields.size(), column.size()));
     auto number_at = [&](const std::string& name, bool required) -> std::optional<double> {
       const auto it = column.find(name);
       if (it == column.end() || it->second >= fields.size() || fields[it->second].empty()) {
