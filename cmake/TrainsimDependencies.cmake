@@ -7,6 +7,8 @@ find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(Threads REQUIRED)
+# libpng: 16-bit height maps and, later, depth, semantic and instance images.
+find_package(PNG REQUIRED)
 # oneTBB: the run loop's worker arena (sim) and, later, the LiDAR's column split.
 find_package(TBB REQUIRED)
 # GeographicLib's Find module lives outside CMake's default search path on Debian.
@@ -22,13 +24,18 @@ if(TRAINSIM_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()
 
-# The studio's Qt 5, VTK and QCustomPlot, found here so the GUI tests see the same targets.
+# VTK: the scene's ParaView export (IOXML) everywhere; the studio's rendering and Qt widgets.
+# Debian's VTK config needs MPI's C component found first (docs/REFERENCES.md P5).
+find_package(MPI COMPONENTS C)
+set(TRAINSIM_VTK_COMPONENTS CommonCore CommonDataModel IOXML)
+if(TRAINSIM_BUILD_STUDIO)
+  list(APPEND TRAINSIM_VTK_COMPONENTS FiltersSources GUISupportQt InteractionStyle
+       RenderingAnnotation RenderingCore RenderingFreeType RenderingOpenGL2)
+endif()
+find_package(VTK 9.1 REQUIRED COMPONENTS ${TRAINSIM_VTK_COMPONENTS})
+
+# The studio's Qt 5 and QCustomPlot, found here so the GUI tests see the same targets.
 if(TRAINSIM_BUILD_STUDIO)
   find_package(Qt5 5.15 REQUIRED COMPONENTS Widgets Concurrent PrintSupport Test)
-  # Debian's VTK config needs MPI's C component found first (docs/REFERENCES.md P5).
-  find_package(MPI COMPONENTS C)
-  find_package(VTK 9.1 REQUIRED COMPONENTS
-    CommonCore CommonDataModel FiltersSources GUISupportQt InteractionStyle RenderingAnnotation
-    RenderingCore RenderingFreeType RenderingOpenGL2)
   find_package(QCustomPlot REQUIRED)
 endif()

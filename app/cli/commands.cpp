@@ -43,6 +43,9 @@ struct CommonOptions {
 struct PlanArgs : CommonOptions {
   std::string out;
   bool force = false;
+  bool scene = false;
+  double scene_from_m = 0.0;
+  double scene_to_m = 1000.0;
 };
 
 struct GenerateArgs : CommonOptions {
@@ -114,11 +117,24 @@ void runPlan(const PlanArgs& args) {
   const CancelScope cancel(&g_cancel);
   const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
   sim::writePlanFolder(*plan, scenario, args.out, args.force);
-  logWarn("plan: terrain and objects are not built yet; wrote the route, layout and trajectory");
   logInfo(
       fmt::format("wrote {0}/scenario.json, {0}/railroad.json, {0}/trajectory.csv and "
                   "{0}/design_report.json",
                   args.out));
+  if (!args.scene)
+    return;
+  const std::filesystem::path scene_dir =
+      std::filesystem::path(args.out) / io::DatasetLayout::kScene;
+  try {
+    const auto environment = sim::makeEnvironment(*plan, scenario);
+    sim::writeScene(*environment, scene_dir, {args.scene_from_m, args.scene_to_m});
+  } catch (...) {
+    std::error_code ignored;  // no half-written scene stays
+    std::filesystem::remove_all(scene_dir, ignored);
+    throw;
+  }
+  logInfo(fmt::format("wrote {}/terrain/, {}/objects.csv and {}/scene.vtm", scene_dir.string(),
+                      scene_dir.string(), scene_dir.string()));
 }
 
 // Everything a run reads and checks before it writes: the scenario, the files it names, the
@@ -188,6 +204,15 @@ void addCommands(CLI::App& app) {
   plan_cmd->add_option("--out,-o", plan.out, "Output folder")->required();
   plan_cmd->add_flag("--force", plan.force,
                      "Write into a non-empty --out (removes only TrainSim's own entries)");
+  plan_cmd->add_flag("--scene", plan.scene,
+                     "Also write the scene: terrain tiles (16-bit PNG + JSON), objects.csv and "
+                     "scene.vtm for ParaView");
+  plan_cmd
+      ->add_option("--scene-from", plan.scene_from_m,
+                   "Main chainage (m) where scene.vtm's window starts")
+      ->check(CLI::Range(0.0, 1e7));
+  plan_cmd->add_option("--scene-to", plan.scene_to_m, "Main chainage (m) where it ends")
+      ->check(CLI::Range(0.0, 1e7));
   addLogLevel(plan_cmd, plan.log_level);
   plan_cmd->callback([] { runPlan(plan); });
 

@@ -25,10 +25,32 @@ for o in o1 o2 o3 o4 o5; do
 done
 pass "rejected runs wrote nothing"
 
-# `plan` writes the resolved scenario and says what it could not plan.
+# `plan` writes the resolved scenario; without --scene it builds no terrain or objects.
 expect_exit 0 "plan" -- "$TRAINSIM" plan --out "$WORK/plan"
 cmp -s "$WORK/plan/scenario.json" <("$TRAINSIM" defaults) && pass "plan scenario.json" ||
   fail "plan scenario.json differs from defaults"
-expect_contains "$WORK/err" "not built yet" "plan says what is missing"
+[ ! -e "$WORK/plan/scene" ] && pass "plan without --scene writes no scene" || fail "plan wrote a scene"
+# `plan --scene`: terrain tiles as 16-bit PNG + JSON, objects.csv, and scene.vtm with its data.
+expect_exit 0 "plan --scene" -- "$TRAINSIM" plan --out "$WORK/scene" --scene --scene-to 300
+python3 - "$WORK/scene/scene" <<'PY' && pass "scene files" || fail "scene files"
+import csv, json, os, struct, sys
+root = sys.argv[1]
+pngs = [f for f in os.listdir(os.path.join(root, "terrain")) if f.endswith(".png")]
+assert len(pngs) >= 4, pngs
+for f in pngs:
+    head = open(os.path.join(root, "terrain", f), "rb").read(26)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", f
+    width, height, depth, colour = struct.unpack(">IIBB", head[16:26])
+    meta = json.load(open(os.path.join(root, "terrain", f[:-4] + ".json")))
+    assert width == height == meta["size"] and depth == 16 and colour == 0, (f, width, depth, colour)
+rows = list(csv.DictReader(open(os.path.join(root, "objects.csv"))))
+assert len(rows) > 100 and {r["kind"] for r in rows} >= {"trees", "bushes"}, len(rows)
+assert len({r["instance"] for r in rows}) == len(rows)
+vtm = open(os.path.join(root, "scene.vtm")).read()
+assert "vtkMultiBlockDataSet" in vtm
+for name in vtm.split('file="')[1:]:
+    assert os.path.getsize(os.path.join(root, name.split('"')[0])) > 0
+PY
+[ -z "$(find "$WORK/scene" -name '.*partial*')" ] && pass "no staging left" || fail "staging folder left"
 expect_exit 2 "plan without --out" -- "$TRAINSIM" plan
 finish

@@ -43,8 +43,8 @@ std::vector<std::string> DatasetLayout::sequenceFiles() {
 }
 
 std::vector<std::string> DatasetLayout::ownEntries() {
-  return {kManifest,     kScenario, kRailroad,  kTrajectory,
-          kDesignReport, kClasses,  kSequences, kStateDir};
+  return {kManifest, kScenario,  kRailroad, kTrajectory, kDesignReport,
+          kClasses,  kSequences, kScene,    kStateDir};
 }
 
 bool DatasetLayout::isInside(const std::filesystem::path& relative) {

@@ -18,6 +18,7 @@
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/schema.hpp"
+#include "trainsim/terrain/railway.hpp"
 
 namespace trainsim::sim {
 
@@ -122,7 +123,10 @@ const std::vector<PipelineStage>& stageTable() {
          "speed profile and trajectory",
          {trainSection().key, trajectorySection().key},
          true},
-        {"terrain", "terrain, objects and track assets", {seed}, false},
+        {"terrain",
+         "terrain, objects and track assets",
+         {seed, terrainSection().key, assetsSection().key, objectsSection().key},
+         true},
         {"lidar", "LiDAR", {}, false},
         {"cameras", "cameras", {}, false},
     };
@@ -289,6 +293,22 @@ std::int64_t Planner::builds(std::string_view name) const {
   if (name == "motion")
     return motion_builds_;
   throw RuntimeError(fmt::format("no plan stage '{}'", name));
+}
+
+std::shared_ptr<const EnvironmentStage> makeEnvironment(const Plan& plan,
+                                                        const scenario::Scenario& scenario) {
+  auto stage = std::make_shared<EnvironmentStage>();
+  stage->key = stageKey(scenario, "terrain", {plan.routeStage().key, plan.layoutShared()->key});
+  stage->route = plan.routeShared();
+  stage->layout = plan.layoutShared();
+  stage->railway =
+      std::make_shared<const terrain::Railway>(stage->route->route.route, stage->layout->layout);
+  environment::EnvironmentParams params{terrainSection().read(scenario.json()),
+                                        assetsSection().read(scenario.json()),
+                                        objectsSection().read(scenario.json())};
+  stage->environment = std::make_shared<const environment::Environment>(
+      stage->railway, std::move(params), scenario.seed());
+  return stage;
 }
 
 std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {

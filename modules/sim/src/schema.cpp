@@ -30,6 +30,9 @@ constexpr void (*kSections[])(Schema&) = {
     [](Schema& s) { designSection().addTo(s); },
     [](Schema& s) { layoutSection().addTo(s); },
     [](Schema& s) { trainSection().addTo(s); },
+    [](Schema& s) { terrainSection().addTo(s); },
+    [](Schema& s) { assetsSection().addTo(s); },
+    [](Schema& s) { objectsSection().addTo(s); },
     [](Schema& s) { addSensorsSection(s); },
 };
 

@@ -29,6 +29,8 @@ class DatasetLayout {
   static constexpr const char* kDesignReport = "design_report.json";
   static constexpr const char* kClasses = "classes.yaml";
   static constexpr const char* kSequences = "sequences";
+  /// `plan --scene`: terrain tiles, objects.csv, scene.vtm.
+  static constexpr const char* kScene = "scene";
   /// Run state while a run is in progress (the checkpoint); removed when it completes.
   static constexpr const char* kStateDir = ".trainsim";
   static constexpr const char* kCheckpoint = ".trainsim/checkpoint.json";

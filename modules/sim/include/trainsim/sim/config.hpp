@@ -14,6 +14,7 @@
 #include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/time.hpp"
+#include "trainsim/environment/environment.hpp"
 #include "trainsim/scenario/binding.hpp"
 #include "trainsim/track/layout.hpp"
 #include "trainsim/track/motion.hpp"
@@ -76,6 +77,9 @@ const scenario::Section<track::DesignRules>& designSection();
 scenario::Json routeBlockJson(const track::BlockSpec& block);
 const scenario::Section<track::LayoutParams>& layoutSection();
 const scenario::Section<TrainConfig>& trainSection();
+const scenario::Section<terrain::TerrainParams>& terrainSection();
+const scenario::Section<environment::AssetParams>& assetsSection();
+const scenario::Section<environment::ObjectParams>& objectsSection();
 
 /// x_m, y_m, z_m of a body-axes position (train.reference_point, sensor mounts): within
 /// 100 m forward or back and 10 m sideways and up or down.

@@ -18,6 +18,13 @@
 #include "trainsim/track/route_design.hpp"
 #include "trainsim/track/vehicle.hpp"
 
+namespace trainsim::environment {
+class Environment;
+}
+namespace trainsim::terrain {
+class Railway;
+}
+
 namespace trainsim::sim {
 
 struct RouteStage;
@@ -74,6 +81,17 @@ struct MotionStage {
   std::uint64_t key = 0;
   track::MotionLimits limits;
   TrainTrajectory trajectory;
+};
+
+/// The world along the railway (terrain, track assets, objects): built only when something
+/// looks at it (a LiDAR, a camera, `plan --scene`), sharing the route and layout stages it
+/// stands on. Tiles are made on demand (Environment::stream()).
+struct EnvironmentStage {
+  std::uint64_t key = 0;
+  std::shared_ptr<const RouteStage> route;
+  std::shared_ptr<const LayoutStage> layout;
+  std::shared_ptr<const terrain::Railway> railway;
+  std::shared_ptr<const environment::Environment> environment;
 };
 
 /// Everything the plan stage produces: shared, immutable stages (cheap to copy).
@@ -135,6 +153,20 @@ class Planner {
 
 /// Builds route, layout, motion and trajectory from a resolved scenario (a fresh Planner).
 std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario);
+
+/// The environment of a plan, from the scenario's terrain, assets and objects sections.
+std::shared_ptr<const EnvironmentStage> makeEnvironment(const Plan& plan,
+                                                        const scenario::Scenario& scenario);
+
+/// What `plan --scene` writes into OUT/scene/: every terrain tile as a 16-bit PNG with its JSON
+/// metadata (terrain/tile_I_J.png), every trackside object (objects.csv), and the tiles along
+/// the main track between main chainage `from_m` and `to_m` as scene.vtm for ParaView.
+struct SceneExport {
+  double from_m = 0.0;
+  double to_m = 1000.0;
+};
+void writeScene(const EnvironmentStage& stage, const std::filesystem::path& folder,
+                const SceneExport& window);
 
 /// Receives a large output piece by piece (an io::AtomicFile, or a string in tests).
 using TextSink = std::function<void(std::string_view)>;

@@ -1,0 +1,143 @@
+// The environment's costs: generation of a 10 km double-track route (terrain, track assets,
+// objects), what a tile costs by part, and streaming along routes of 1, 10 and 100 km (the
+// scene's memory and the time to get everything within 120 m of a pose). Ratios are to the
+// 1 km route measured in the same run.
+//
+//   bench_environment [--quick]   (--quick: 1 and 10 km only)
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstring>
+#include <string>
+
+#include "trainsim/environment/environment.hpp"
+#include "trainsim/scenario/scenario.hpp"
+#include "trainsim/sim/plan.hpp"
+#include "trainsim/sim/schema.hpp"
+#include "trainsim/terrain/railway.hpp"
+
+namespace {
+
+using namespace trainsim;
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct World {
+  scenario::Scenario scenario;
+  std::unique_ptr<sim::Plan> plan;
+  std::shared_ptr<const sim::EnvironmentStage> stage;
+};
+
+World makeWorld(double length_m) {
+  scenario::Json input = scenario::Json::parse(sim::defaultScenarioText());
+  input["route"]["generator"]["length_m"] = length_m;
+  World w{sim::resolveScenario(input, "", "bench"), nullptr, nullptr};
+  w.plan = sim::makePlan(w.scenario);
+  w.stage = sim::makeEnvironment(*w.plan, w.scenario);
+  return w;
+}
+
+struct Walk {
+  std::size_t tiles_made = 0;
+  std::size_t peak_bytes = 0;  // sum of the cached tiles' own bytes, at its largest
+  double window_ms = 0.0;      // mean time of a 120 m window query once its tiles exist
+  double seconds_total = 0.0;
+};
+
+// Walks the main track every 20 m, asking for the scene within 120 m, as a LiDAR frame would.
+Walk walk(const World& w, double from_m, double to_m) {
+  Walk out;
+  const auto& env = *w.stage->environment;
+  auto stream = env.stream(12);
+  const auto t0 = Clock::now();
+  double query = 0.0;
+  int queries = 0;
+  for (double x = from_m; x < to_m; x += 20.0) {
+    const Eigen::Vector3d p = w.stage->railway->frame(0, x).position;
+    stream->window(p, 120.0);  // makes what is missing
+    const auto q0 = Clock::now();
+    const scene::SceneWindow win = stream->window(p, 120.0);
+    std::size_t objects = 0;
+    win.forEachObject(p, 120.0, [&](const scene::Object&) { ++objects; });
+    query += seconds(q0);
+    ++queries;
+    std::size_t bytes = 0;
+    for (const auto& index : stream->existing())
+      (void)index;
+    for (const auto& t : win.tiles)
+      bytes += t->bytes();
+    out.peak_bytes = std::max(out.peak_bytes, bytes);
+  }
+  out.tiles_made = static_cast<std::size_t>(stream->made());
+  out.window_ms = 1e3 * query / queries;
+  out.seconds_total = seconds(t0);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+
+  // 1. A 10 km double-track route: every tile, by part.
+  {
+    const auto t_plan = Clock::now();
+    const World w = makeWorld(10'000.0);
+    const double plan_s = seconds(t_plan);
+    const auto& env = *w.stage->environment;
+    double terrain_s = 0.0, objects_s = 0.0, tile_s = 0.0;
+    std::size_t triangles = 0, objects = 0, wires = 0;
+    for (const auto& index : env.tiles()) {
+      auto t0 = Clock::now();
+      env.terrain().tile(index);
+      terrain_s += seconds(t0);
+      t0 = Clock::now();
+      objects += env.objects(index).size();
+      objects_s += seconds(t0);
+      t0 = Clock::now();
+      const auto tile = env.tile(index);
+      tile_s += seconds(t0);
+      triangles += tile->triangleCount();
+      wires += tile->wires.size();
+    }
+    fmt::print("## Environment of a 10 km double-track route ({} tiles of {} x {} vertices)\n\n",
+               env.tiles().size(), env.params().terrain.tile_vertices,
+               env.params().terrain.tile_vertices);
+    fmt::print("| part | s | s / tile |\n|---|---|---|\n");
+    const double n = static_cast<double>(env.tiles().size());
+    fmt::print("| plan (route, layout, motion) + railway index + tile set | {:.2f} | |\n", plan_s);
+    fmt::print("| terrain height maps | {:.2f} | {:.3f} |\n", terrain_s, terrain_s / n);
+    fmt::print("| object placement (with its terrain) | {:.2f} | {:.3f} |\n", objects_s,
+               objects_s / n);
+    fmt::print("| whole tiles (terrain, mesh, assets, objects) | {:.2f} | {:.3f} |\n", tile_s,
+               tile_s / n);
+    fmt::print(
+        "\n{} triangles (objects as instances: a prototype counted per use), {} trackside objects, "
+        "{} wires\n\n",
+        triangles, objects, wires);
+  }
+
+  // 2. Streaming: the same walk over the first 1 km of routes of growing length.
+  fmt::print("## Streaming: the scene within 120 m of the train, every 20 m\n\n");
+  fmt::print(
+      "| route | tiles existing | walked | tiles made | peak scene bytes (MB) | x 1 km | window "
+      "query (ms) | x 1 km |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|\n");
+  Walk base;
+  for (const double km : quick ? std::vector<double>{1, 10} : std::vector<double>{1, 10, 100}) {
+    const World w = makeWorld(km * 1000.0);
+    // Walk the last kilometre: the farthest from the route's start, where growth would show.
+    const double end = w.stage->railway->main().length();
+    const Walk r = walk(w, std::max(0.0, end - 1000.0), end);
+    if (km == 1)
+      base = r;
+    fmt::print("| {} km | {} | last 1 km | {} | {:.1f} | {:.2f} | {:.3f} | {:.2f} |\n", km,
+               w.stage->environment->tiles().size(), r.tiles_made, r.peak_bytes / 1e6,
+               static_cast<double>(r.peak_bytes) / static_cast<double>(base.peak_bytes),
+               r.window_ms, r.window_ms / base.window_ms);
+  }
+  return 0;
+}

@@ -1,0 +1,137 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trainsim/scene/scene.hpp"
+#include "trainsim/terrain/railway.hpp"
+#include "trainsim/terrain/terrain.hpp"
+
+namespace trainsim::environment {
+
+/// Track assets (sensors-reference.md §5). Lengths in m, relative to the top of rail.
+struct AssetParams {
+  double gauge_m = 1.435;  ///< between running faces, 14 mm below the running surface
+  double rail_inclination = 1.0 / 40.0;
+  double sleeper_spacing_m = 0.6;
+  double sleeper_length_m = 2.6;
+  double sleeper_width_m = 0.26;
+  double sleeper_height_m = 0.2;
+  double ballast_shoulder_m = 0.45;  ///< beyond the sleeper ends
+  double ballast_slope = 1.5;        ///< horizontal per vertical
+  bool catenary = true;              ///< masts and wires along the main and double track
+  double mast_span_m = 60.0;         ///< longest span; shorter in curves to keep the stagger
+  double mast_offset_m = 3.2;        ///< mast face from the outermost track centre
+  double mast_height_m = 8.0;
+  double contact_height_m = 5.3;  ///< contact wire above the top of rail
+  double system_height_m = 1.6;   ///< messenger above the contact wire at the supports
+  double stagger_m = 0.3;
+  double dropper_spacing_m = 10.0;
+  double platform_height_m = 0.76;
+  double platform_edge_m = 1.65;  ///< platform edge from the track centre
+  double platform_width_m = 4.0;
+  double bridge_pier_spacing_m = 30.0;
+  double fence_probability = 0.3;  ///< per main block and side
+  double fence_offset_m = 5.0;     ///< from the outermost track centre
+  double signal_offset_m = 2.6;    ///< signal post from the outermost track centre
+};
+
+/// Density and spacing of one kind of trackside object.
+struct ObjectKindParams {
+  double density_per_ha = 0.0;
+  double min_track_distance_m = 6.0;  ///< footprint edge from the nearest track centre
+};
+
+/// One kind of trackside object: adding a kind is one entry in objectKinds().
+struct ObjectKind {
+  std::string_view name;
+  std::string_view description;
+  ObjectKindParams defaults;
+  double radius_min_m, radius_max_m;  ///< footprint (plan) radius
+  int variants;                       ///< prototype meshes made per seed
+  /// Builds prototype `variant` with footprint radius 1 m, its foot at the origin; instances
+  /// scale it by their radius.
+  scene::Mesh (*prototype)(std::uint64_t seed, int variant);
+};
+std::span<const ObjectKind> objectKinds();
+
+struct ObjectParams {
+  std::vector<ObjectKindParams> kinds;  ///< one per objectKinds() entry
+  double cell_m = 8.0;                  ///< candidate lattice spacing
+  ObjectParams();
+};
+
+struct EnvironmentParams {
+  terrain::TerrainParams terrain;
+  AssetParams assets;
+  ObjectParams objects;
+};
+
+/// A placed trackside object, as objects.csv lists it.
+struct PlacedObject {
+  std::size_t kind = 0;
+  int variant = 0;
+  Eigen::Vector3d position;
+  double radius_m = 0.0, yaw_rad = 0.0;
+  scene::InstanceId instance = 0;
+};
+
+/// The world along the railway: terrain, track assets and trackside objects, tile by tile. A
+/// tile is a pure function of (railway, params, seed, index), made on demand (stream()).
+class Environment {
+ public:
+  Environment(std::shared_ptr<const terrain::Railway> railway, EnvironmentParams params,
+              std::uint64_t seed);
+
+  const terrain::Terrain& terrain() const { return terrain_; }
+  const terrain::Railway& railway() const { return *railway_; }
+  const EnvironmentParams& params() const { return params_; }
+  scene::TileGrid grid() const { return terrain_.grid(); }
+  const std::set<scene::TileIndex>& tiles() const { return terrain_.tiles(); }
+
+  /// Everything in one tile.
+  std::shared_ptr<const scene::Tile> tile(scene::TileIndex index) const;
+  /// The trackside objects anchored in a tile (also in tile(), as instances).
+  std::vector<PlacedObject> objects(scene::TileIndex index) const;
+  /// A stream of tiles over this environment, holding at most `capacity` tiles.
+  std::unique_ptr<scene::SceneStream> stream(std::size_t capacity = 16) const;
+
+  /// The materials drawn for this seed.
+  scene::MaterialId ballastMaterial() const { return ballast_material_; }
+  scene::MaterialId groundMaterial() const { return ground_material_; }
+  std::uint64_t seed() const { return seed_; }
+  /// The shared signal (post and head) placed at every signal.
+  const std::shared_ptr<const scene::Mesh>& signalPrototype() const { return signal_; }
+  /// The shared prototype of an object kind's variant.
+  const std::shared_ptr<const scene::Mesh>& prototype(std::size_t kind, int variant) const;
+
+ private:
+  std::shared_ptr<const terrain::Railway> railway_;
+  EnvironmentParams params_;
+  std::uint64_t seed_;
+  terrain::Terrain terrain_;
+  scene::MaterialId ballast_material_, ground_material_;
+  std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
+  std::shared_ptr<const scene::Mesh> signal_;
+};
+
+/// The 60E1 rail cross-section as a closed polygon (a, z) in m: a across the rail (positive
+/// outward), z from the top of the rail (≤ 0), counter-clockwise seen along the rail; `head`
+/// marks the edges (from point i to i + 1) of the running surface and the head's sides.
+struct RailProfile {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<bool> head;
+};
+const RailProfile& rail60E1();
+
+/// Lateral distance from a rail's axis to its gauge face, 14 mm below the running surface,
+/// with the rail inclined by `inclination` (tan of the cant of the rail toward the track).
+double gaugeFaceOffset(double inclination);
+
+}  // namespace trainsim::environment

@@ -1,0 +1,403 @@
+#include "assets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "trainsim/core/random.hpp"
+
+namespace trainsim::environment {
+
+const RailProfile& rail60E1() {
+  // Half of the 60E1 section (EN 13674-1; sensors-reference.md §5.1: H 172, B 150, C 72,
+  // D 16.5, head depth 51, foot depth 31.5 mm), outer side, from the crown's centre down to the
+  // foot's centre, in mm. The crown approximates the R300/R80/R13 radii by chords of ≤ 1 mm
+  // sagitta; the foot is simplified (it is hidden under the fastenings and in the ballast's
+  // shadow).
+  static const RailProfile profile = [] {
+    const double half[][2] = {{0, 0},       {8, -0.1},   {16, -0.45},  {24, -1.1},     {30, -2.4},
+                              {33.5, -4.5}, {35.5, -8},  {36, -14},    {36, -37.5},    {33, -40.5},
+                              {12, -46.5},  {8.25, -51}, {8.25, -125}, {10.5, -130.5}, {20, -134},
+                              {75, -159.5}, {75, -172},  {0, -172}};
+    constexpr int n = sizeof half / sizeof half[0];
+    constexpr int head_end = 9;  // edges 0..8 (crown and head side) are the running head
+    RailProfile p;
+    // Outer half top to bottom, then the inner half (mirrored) bottom to top.
+    for (int i = 0; i < n; ++i)
+      p.points.emplace_back(half[i][0] * 1e-3, half[i][1] * 1e-3);
+    for (int i = n - 2; i > 0; --i)
+      p.points.emplace_back(-half[i][0] * 1e-3, half[i][1] * 1e-3);
+    for (std::size_t e = 0; e < p.points.size(); ++e) {
+      const bool outer_head = e < static_cast<std::size_t>(head_end);
+      const bool inner_head = e >= p.points.size() - static_cast<std::size_t>(head_end);
+      p.head.push_back(outer_head || inner_head);
+    }
+    return p;
+  }();
+  return profile;
+}
+
+namespace {
+
+// The profile inclined by tan β = inclination toward the track (top leaning inward, outward
+// = +a), then lifted so its highest point is z = 0 (the running surface).
+std::vector<Eigen::Vector2d> inclinedProfile(double inclination) {
+  const double beta = std::atan(inclination);
+  const double c = std::cos(beta), s = std::sin(beta);
+  std::vector<Eigen::Vector2d> out;
+  double top = -1.0;
+  for (const auto& p : rail60E1().points) {
+    out.emplace_back(p.x() * c - p.y() * s, p.x() * s + p.y() * c);
+    top = std::max(top, out.back().y());
+  }
+  for (auto& p : out)
+    p.y() -= top;
+  return out;
+}
+
+}  // namespace
+
+double gaugeFaceOffset(double inclination) {
+  // The innermost point of the profile's edges crossing z = −14 mm.
+  const auto p = inclinedProfile(inclination);
+  double inner = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& a = p[i];
+    const auto& b = p[(i + 1) % p.size()];
+    const double z = -0.014;
+    if ((a.y() - z) * (b.y() - z) > 0.0 || a.y() == b.y())
+      continue;
+    const double t = (z - a.y()) / (b.y() - a.y());
+    inner = std::min(inner, a.x() + t * (b.x() - a.x()));
+  }
+  return -inner;
+}
+
+namespace detail {
+
+std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track, double x0,
+                                               double x1) {
+  std::vector<std::vector<FramePoint>> runs;
+  const terrain::Railway& railway = ctx.env.railway();
+  for (const terrain::Stretch& s : railway.stretchesNear(ctx.lo, ctx.hi, 10.0)) {
+    if (s.track != track || s.x1 < x0 || s.x0 > x1)
+      continue;
+    const track::Polyline line = railway.polyline(s);
+    std::vector<FramePoint> run;
+    const auto frame_point = [&](std::size_t k) {
+      const track::TrackFrame f = railway.frame(track, line.main_chainage_m[k]);
+      return FramePoint{line.points[k], f.tangent,          f.left,
+                        f.up,           line.distance_m[k], line.main_chainage_m[k]};
+    };
+    for (std::size_t k = 0; k + 1 < line.points.size(); ++k) {
+      const Eigen::Vector3d mid = 0.5 * (line.points[k] + line.points[k + 1]);
+      const double xm = 0.5 * (line.main_chainage_m[k] + line.main_chainage_m[k + 1]);
+      const bool own = ctx.owns(mid) && xm >= x0 && xm <= x1;
+      if (own) {
+        if (run.empty())
+          run.push_back(frame_point(k));
+        run.push_back(frame_point(k + 1));
+      } else if (!run.empty()) {
+        runs.push_back(std::move(run));
+        run.clear();
+      }
+    }
+    if (!run.empty())
+      runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FramePoint>& run,
+             const std::vector<Eigen::Vector2d>& profile, bool closed) {
+  const std::size_t m = profile.size();
+  bool ccw = true;
+  if (closed) {
+    double area = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto& a = profile[i];
+      const auto& b = profile[(i + 1) % m];
+      area += a.x() * b.y() - b.x() * a.y();
+    }
+    ccw = area > 0.0;
+  }
+  const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+  for (const FramePoint& f : run)
+    for (const auto& p : profile)
+      mesh.addVertex(ctx.local(f.position + p.x() * f.left + p.y() * f.up));
+  const std::size_t edges = closed ? m : m - 1;
+  const auto um = static_cast<std::uint32_t>(m);
+  for (std::uint32_t k = 0; k + 1 < run.size(); ++k)
+    for (std::uint32_t i = 0; i < edges; ++i) {
+      const std::uint32_t i1 = (i + 1) % um;
+      const std::uint32_t a = base + k * um + i, b = base + k * um + i1;
+      const std::uint32_t c = base + (k + 1) * um + i1, d = base + (k + 1) * um + i;
+      // Outward = edge × tangent for a counter-clockwise profile in (left, up).
+      if (ccw)
+        mesh.addQuad(a, b, c, d);
+      else
+        mesh.addQuad(a, d, c, b);
+    }
+}
+
+std::pair<double, double> outermostOffsets(const track::Layout& layout, double x) {
+  double left = 0.0, right = 0.0;
+  for (const auto& t : layout.tracks) {
+    if (t.offset.empty() || x < t.main_chainage_begin_m || x > t.main_chainage_end_m)
+      continue;
+    for (const auto& piece : t.offset) {
+      if (x < piece.x0 || x > piece.x1)
+        continue;
+      const double y = piece.offset(x);
+      left = std::max(left, y);
+      right = std::min(right, y);
+    }
+  }
+  return {left, right};
+}
+
+// --- rails, sleepers, ballast ------------------------------------------------------------------
+
+namespace {
+constexpr double kRailPad_m = 0.010;  // rail pad and plate between the rail foot and the sleeper
+constexpr double kRailHeight_m = 0.172;
+}  // namespace
+
+void addTrackAssets(TileContext& ctx) {
+  const AssetParams& A = ctx.env.params().assets;
+  const double formation = ctx.env.params().terrain.formation_depth_m;
+  const auto profile = inclinedProfile(A.rail_inclination);
+  const double centre = 0.5 * A.gauge_m + gaugeFaceOffset(A.rail_inclination);
+  const double sleeper_top = -kRailHeight_m - kRailPad_m;
+  const double ballast_top = sleeper_top - 0.03;  // the crib a little below the sleeper tops
+  const double half_top = 0.5 * A.sleeper_length_m + A.ballast_shoulder_m;
+  const double half_bottom = half_top + A.ballast_slope * (formation + ballast_top);
+  const std::vector<Eigen::Vector2d> ballast = {{half_bottom, -formation},
+                                                {half_top, ballast_top},
+                                                {-half_top, ballast_top},
+                                                {-half_bottom, -formation}};
+
+  for (const auto& t : ctx.env.railway().layout().tracks) {
+    const auto runs = ownedRuns(ctx, t.id, -1e300, 1e300);
+    if (runs.empty())
+      continue;
+    for (const int side : {1, -1}) {
+      // The rail's section in (left, up): a outward, so left = side · (centre + a).
+      std::vector<Eigen::Vector2d> section;
+      for (const auto& p : profile)
+        section.emplace_back(side * (centre + p.x()), p.y());
+      auto rail = std::make_shared<scene::Mesh>();
+      const auto& head = rail60E1().head;
+      // Head and web as two parts: the running head is near-specular steel.
+      for (const bool head_part : {true, false}) {
+        rail->beginPart(scene::cls::kRail,
+                        head_part ? scene::mat::kRailHead : scene::mat::kRailWeb);
+        for (const auto& run : runs) {
+          scene::Mesh strip;
+          strip.beginPart(scene::cls::kRail, scene::mat::kRailWeb);
+          extrude(strip, ctx, run, section, true);
+          // Keep the quads of this part's edges: quad (k, i) is triangles 2(k·m + i), +1.
+          const std::size_t m = section.size();
+          const auto base = static_cast<std::uint32_t>(rail->vertices.size());
+          rail->vertices.insert(rail->vertices.end(), strip.vertices.begin(), strip.vertices.end());
+          for (std::size_t q = 0; q < strip.triangles.size() / 2; ++q) {
+            if (head[q % m] != head_part)
+              continue;
+            for (int h = 0; h < 2; ++h) {
+              const auto& tri = strip.triangles[2 * q + h];
+              rail->addTriangle(base + tri[0], base + tri[1], base + tri[2]);
+            }
+          }
+        }
+      }
+      ctx.tile.objects.push_back(scene::Object::place(
+          rail, ctx.origin, Eigen::Matrix3f::Identity(),
+          scene::trackAssetInstance(t.id, side > 0 ? kRailLeft : kRailRight, 0)));
+    }
+    auto bed = std::make_shared<scene::Mesh>();
+    bed->beginPart(scene::cls::kTrackbed, ctx.env.ballastMaterial());
+    for (const auto& run : runs)
+      extrude(*bed, ctx, run, ballast, false);
+    // Sleepers every sleeper_spacing_m of the track's own distance, in the tile holding their
+    // centre, square to the track in the plane of the rails.
+    bed->beginPart(scene::cls::kSleeper, scene::mat::kConcrete);
+    for (const auto& run : runs) {
+      const double d0 = run.front().distance_m, d1 = run.back().distance_m;
+      for (double k = std::ceil(d0 / A.sleeper_spacing_m); k * A.sleeper_spacing_m <= d1;
+           k += 1.0) {
+        const double d = k * A.sleeper_spacing_m;
+        auto it = std::upper_bound(run.begin(), run.end(), d,
+                                   [](double v, const FramePoint& f) { return v < f.distance_m; });
+        if (it == run.begin())
+          it = std::next(it);
+        if (it == run.end())
+          it = std::prev(it);
+        const FramePoint& a = *std::prev(it);
+        const FramePoint& b = *it;
+        const double w =
+            b.distance_m > a.distance_m ? (d - a.distance_m) / (b.distance_m - a.distance_m) : 0.0;
+        const track::TrackFrame f = ctx.env.railway().frame(
+            t.id, a.main_chainage_m + w * (b.main_chainage_m - a.main_chainage_m));
+        const Eigen::Vector3d c = f.position + (sleeper_top - 0.5 * A.sleeper_height_m) * f.up;
+        if (!ctx.owns(c))
+          continue;
+        scene::addOrientedBox(*bed, ctx.local(c),
+                              (0.5 * A.sleeper_width_m * f.tangent).cast<float>(),
+                              (0.5 * A.sleeper_length_m * f.left).cast<float>(),
+                              (0.5 * A.sleeper_height_m * f.up).cast<float>());
+      }
+    }
+    ctx.tile.objects.push_back(
+        scene::Object::place(bed, ctx.origin, Eigen::Matrix3f::Identity(), 0));
+  }
+}
+
+// --- catenary ----------------------------------------------------------------------------------
+
+namespace {
+
+// Largest |curvature| of the main track over [x0, x1], sampled every 10 m.
+double maxCurvature(const track::Track& main, double x0, double x1) {
+  double k = 0.0;
+  const int n = std::max(2, static_cast<int>(std::ceil((x1 - x0) / 10.0)) + 1);
+  for (int i = 0; i < n; ++i) {
+    const double x = std::min(main.length(), x0 + (x1 - x0) * i / (n - 1));
+    k = std::max(k, std::abs(main.atChainage(x).curvature_1_m));
+  }
+  return k;
+}
+
+}  // namespace
+
+void addCatenary(TileContext& ctx) {
+  const AssetParams& A = ctx.env.params().assets;
+  if (!A.catenary)
+    return;
+  const terrain::Railway& railway = ctx.env.railway();
+  const auto& layout = railway.layout();
+  const auto& main = railway.main();
+  const double formation = ctx.env.params().terrain.formation_depth_m;
+  // The main-track chainage range near this tile.
+  double x_lo = 1e300, x_hi = -1e300;
+  for (const auto& s :
+       railway.stretchesNear(ctx.lo, ctx.hi, A.mast_offset_m + 20.0 + A.mast_span_m)) {
+    x_lo = std::min(x_lo, s.x0);
+    x_hi = std::max(x_hi, s.x1);
+  }
+  if (x_lo > x_hi)
+    return;
+  const bool has_double =
+      layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  const auto& blocks = railway.route().blocks;
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const track::Block& block = blocks[bi];
+    const double c0 = block.chainage_begin_m, c1 = block.chainage_end_m;
+    if (c1 < x_lo || c0 > x_hi)
+      continue;
+    const bool tunnel = block.type == track::BlockType::kTunnel;
+    const bool bridge = block.type == track::BlockType::kBridge;
+    const double kappa = maxCurvature(main, c0, c1);
+    const bool curve = kappa > 1.0 / 20000.0;
+    // Both registrations on the outside in curves: the chord's mid-span sag toward the inside,
+    // L²κ/8, must stay within 2·stagger.
+    double span = A.mast_span_m;
+    if (curve)
+      span = std::min(span, std::sqrt(16.0 * A.stagger_m / kappa));
+    const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
+    const double step = (c1 - c0) / n;
+    const double sign = main.atChainage(0.5 * (c0 + c1)).curvature_1_m >= 0.0 ? 1.0 : -1.0;
+    for (int track_id : {0, 1}) {
+      if (track_id == 1 && !has_double)
+        continue;
+      const int side = track_id == 0 ? 1 : -1;
+      for (int k = 0; k < n; ++k) {
+        const double xa = c0 + k * step;
+        const double xb = k + 1 == n ? c1 : c0 + (k + 1) * step;
+        const std::int64_t index = static_cast<std::int64_t>(bi) * 4096 + k;
+        const auto stagger = [&](int kk) {
+          return curve ? -sign * A.stagger_m : ((kk % 2 == 0) ? A.stagger_m : -A.stagger_m);
+        };
+        const track::TrackFrame fa = railway.frame(track_id, xa);
+        const track::TrackFrame fb = railway.frame(track_id, xb);
+        const Eigen::Vector3d ra = fa.position + A.contact_height_m * fa.up + stagger(k) * fa.left;
+        const Eigen::Vector3d rb =
+            fb.position + A.contact_height_m * fb.up + stagger(k + 1) * fb.left;
+        if (!ctx.owns(ra))
+          continue;  // a span belongs to the tile of its first support
+        // Mast beside the outermost track on its side, standing vertical.
+        const track::TrackFrame fm = railway.frame(0, xa);
+        const auto [left, right] = outermostOffsets(layout, xa);
+        const double lateral = side > 0 ? left + A.mast_offset_m : right - A.mast_offset_m;
+        Eigen::Vector3d horizontal_left(fm.left.x(), fm.left.y(), 0.0);
+        horizontal_left.normalize();
+        const Eigen::Vector3d foot_xy = fm.position + lateral * horizontal_left;
+        const double top_z = fa.position.z() + A.mast_height_m;
+        const double support_z = ra.z() + A.system_height_m;
+        auto mast = std::make_shared<scene::Mesh>();
+        mast->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
+        if (!tunnel) {
+          const double foot_z =
+              bridge ? fm.position.z() - formation
+                     : std::min(fm.position.z() - formation,
+                                ctx.env.terrain().heightAt(foot_xy.x(), foot_xy.y())) -
+                           0.3;
+          const Eigen::Vector3d foot(foot_xy.x(), foot_xy.y(), foot_z);
+          const Eigen::Vector3d top(foot_xy.x(), foot_xy.y(), top_z);
+          const Eigen::Vector3f t = (0.15 * fm.tangent).cast<float>();
+          const Eigen::Vector3f l = (0.15 * horizontal_left).cast<float>();
+          scene::addOrientedBox(*mast, ctx.local(0.5 * (foot + top)), t, l,
+                                Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top_z - foot_z))));
+          // Cantilever (messenger support) and registration arm out to the contact wire.
+          const Eigen::Vector3d arm_root(foot_xy.x(), foot_xy.y(), support_z);
+          const Eigen::Vector3d over(ra.x(), ra.y(), support_z);
+          scene::addCylinder(*mast, ctx.local(arm_root), ctx.local(over), 0.04f, 0.04f, 6);
+          const Eigen::Vector3d brace_root(foot_xy.x(), foot_xy.y(), ra.z() - 0.4);
+          scene::addCylinder(*mast, ctx.local(brace_root), ctx.local(ra), 0.03f, 0.03f, 6);
+        } else {
+          // In tunnels the supports hang from the crown.
+          const Eigen::Vector3d crown(ra.x(), ra.y(),
+                                      fa.position.z() + ctx.env.params().terrain.tunnel_crown_m);
+          scene::addCylinder(*mast, ctx.local(Eigen::Vector3d(ra.x(), ra.y(), support_z)),
+                             ctx.local(crown), 0.04f, 0.04f, 6);
+        }
+        ctx.tile.objects.push_back(
+            scene::Object::place(mast, ctx.origin, Eigen::Matrix3f::Identity(),
+                                 scene::trackAssetInstance(track_id, kMast, index)));
+        // Contact wire (straight between registrations), messenger (a parabola from the
+        // supports down to sag at mid-span) and vertical droppers between them.
+        const double sag = std::min(0.6, A.system_height_m - 0.5);
+        const int drops =
+            std::max(1, static_cast<int>(std::ceil((rb - ra).norm() / A.dropper_spacing_m)));
+        scene::Wire contact{{ctx.local(ra), ctx.local(rb)},
+                            0.006f,
+                            scene::cls::kWire,
+                            scene::mat::kCopper,
+                            scene::trackAssetInstance(track_id, kContactWire, index)};
+        scene::Wire messenger{{},
+                              0.0055f,
+                              scene::cls::kWire,
+                              scene::mat::kCopper,
+                              scene::trackAssetInstance(track_id, kMessenger, index)};
+        for (int j = 0; j <= drops; ++j) {
+          const double tau = static_cast<double>(j) / drops;
+          const Eigen::Vector3d on_contact = ra + tau * (rb - ra);
+          const Eigen::Vector3d on_messenger =
+              on_contact + Eigen::Vector3d(0, 0, A.system_height_m - 4.0 * sag * tau * (1.0 - tau));
+          messenger.points.push_back(ctx.local(on_messenger));
+          if (j > 0 && j < drops)
+            ctx.tile.wires.push_back(
+                {{ctx.local(on_contact), ctx.local(on_messenger)},
+                 0.0025f,
+                 scene::cls::kWire,
+                 scene::mat::kCopper,
+                 scene::trackAssetInstance(track_id, kDropper, index * 64 + j)});
+        }
+        ctx.tile.wires.push_back(std::move(contact));
+        ctx.tile.wires.push_back(std::move(messenger));
+      }
+    }
+  }
+}
+
+}  // namespace detail
+}  // namespace trainsim::environment

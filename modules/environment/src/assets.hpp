@@ -1,0 +1,68 @@
+// Private to the environment module: the track-asset builders behind Environment::tile().
+#pragma once
+
+#include <vector>
+
+#include "trainsim/environment/environment.hpp"
+
+namespace trainsim::environment::detail {
+
+/// The kinds of track asset in instance ids (scene::trackAssetInstance).
+enum AssetKind : int {
+  kRailLeft = 1,
+  kRailRight = 2,
+  kMast = 3,
+  kContactWire = 4,
+  kMessenger = 5,
+  kDropper = 6,
+  kPlatformLeft = 7,
+  kPlatformRight = 8,
+  kTunnel = 9,
+  kBridge = 10,
+  kFence = 11,
+  kSignal = 12
+};
+
+/// A point of a track's polyline with its frame (world, shifted).
+struct FramePoint {
+  Eigen::Vector3d position;
+  Eigen::Vector3d tangent, left, up;
+  double distance_m = 0.0, main_chainage_m = 0.0;
+};
+
+/// Everything a builder needs about the tile it fills.
+struct TileContext {
+  const Environment& env;
+  scene::TileIndex index;
+  Eigen::Vector2d lo, hi;  ///< the tile's square
+  Eigen::Vector3d origin;  ///< the tile's local origin
+  scene::Tile& tile;
+
+  bool owns(const Eigen::Vector3d& p) const {
+    return p.x() >= lo.x() && p.x() < hi.x() && p.y() >= lo.y() && p.y() < hi.y();
+  }
+  Eigen::Vector3f local(const Eigen::Vector3d& p) const { return (p - origin).cast<float>(); }
+};
+
+/// Runs of consecutive polyline points of `track` whose segments this tile owns (a segment
+/// belongs to the tile holding its midpoint), limited to main chainage [x0, x1], with frames.
+std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track, double x0,
+                                               double x1);
+
+/// Extrudes a cross-section (l, u) along a run of frames into `mesh` (part already begun). A
+/// closed profile is oriented automatically; an open one must have the outside on the right of
+/// its direction of travel, seen with the track coming toward the viewer. `part_of_edge`
+/// (optional) picks the part index of each profile edge among `parts`.
+void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FramePoint>& run,
+             const std::vector<Eigen::Vector2d>& profile, bool closed);
+
+/// Lateral offsets (from the main track, + left) of the outermost track on each side at main
+/// chainage x: left ≥ 0, right ≤ 0.
+std::pair<double, double> outermostOffsets(const track::Layout& layout, double x);
+
+void addTrackAssets(TileContext& ctx);
+void addCatenary(TileContext& ctx);
+void addStructures(TileContext& ctx);
+void addFencesAndSignals(TileContext& ctx);
+
+}  // namespace trainsim::environment::detail

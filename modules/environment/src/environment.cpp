@@ -1,0 +1,85 @@
+#include "trainsim/environment/environment.hpp"
+
+#include <cmath>
+
+#include "assets.hpp"
+#include "objects.hpp"
+#include "trainsim/core/cancel.hpp"
+#include "trainsim/core/random.hpp"
+
+namespace trainsim::environment {
+
+Environment::Environment(std::shared_ptr<const terrain::Railway> railway, EnvironmentParams params,
+                         std::uint64_t seed)
+    : railway_(railway),
+      params_(std::move(params)),
+      seed_(seed),
+      terrain_(railway, params_.terrain, seed) {
+  // Ballast and landscape materials are drawn per seed.
+  const RandomStream materials(seed, "environment/materials");
+  const auto u = materials.uniform4(0);
+  ballast_material_ = u[0] < 0.5 ? scene::mat::kBallastGranite : scene::mat::kBallastBasalt;
+  ground_material_ = u[1] < 0.6   ? scene::mat::kGrass
+                     : u[1] < 0.9 ? scene::mat::kDryGrass
+                                  : scene::mat::kSoil;
+  for (const ObjectKind& kind : objectKinds()) {
+    prototypes_.emplace_back();
+    for (int v = 0; v < kind.variants; ++v)
+      prototypes_.back().push_back(std::make_shared<const scene::Mesh>(kind.prototype(seed, v)));
+  }
+  auto signal = std::make_shared<scene::Mesh>();
+  signal->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
+  scene::addCylinder(*signal, {0, 0, -0.3f}, {0, 0, 4.6f}, 0.07f, 0.07f, 8);
+  signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
+  scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
+  signal_ = std::move(signal);
+}
+
+const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kind,
+                                                                 int variant) const {
+  return prototypes_.at(kind).at(static_cast<std::size_t>(variant));
+}
+
+std::vector<PlacedObject> Environment::objects(scene::TileIndex index) const {
+  const terrain::TerrainTile heights = terrain_.tile(index);
+  return detail::placeObjects(*this, index, &heights);
+}
+
+std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index) const {
+  auto tile = std::make_shared<scene::Tile>();
+  tile->index = index;
+  const terrain::TerrainTile heights = terrain_.tile(index);
+  const scene::TileGrid g = grid();
+  const Eigen::Vector2d lo = g.corner(index);
+  tile->origin = {lo.x(), lo.y(), heights.z0};
+  tile->objects.push_back(
+      scene::Object::place(std::make_shared<const scene::Mesh>(
+                               terrain::terrainMesh(heights, tile->origin, ground_material_)),
+                           tile->origin, Eigen::Matrix3f::Identity(), 0));
+  detail::TileContext ctx{*this,        index, lo, lo + Eigen::Vector2d::Constant(g.size_m),
+                          tile->origin, *tile};
+  throwIfCancelled();
+  detail::addTrackAssets(ctx);
+  detail::addCatenary(ctx);
+  detail::addStructures(ctx);
+  detail::addFencesAndSignals(ctx);
+  throwIfCancelled();
+  for (const PlacedObject& o : detail::placeObjects(*this, index, &heights)) {
+    const float c = static_cast<float>(std::cos(o.yaw_rad)),
+                s = static_cast<float>(std::sin(o.yaw_rad));
+    Eigen::Matrix3f linear;
+    linear << c, -s, 0, s, c, 0, 0, 0, 1;
+    linear *= static_cast<float>(o.radius_m);
+    tile->objects.push_back(
+        scene::Object::place(prototype(o.kind, o.variant), o.position, linear, o.instance));
+  }
+  tile->updateBounds();
+  return tile;
+}
+
+std::unique_ptr<scene::SceneStream> Environment::stream(std::size_t capacity) const {
+  return std::make_unique<scene::SceneStream>(
+      grid(), tiles(), [this](scene::TileIndex i) { return tile(i); }, capacity);
+}
+
+}  // namespace trainsim::environment

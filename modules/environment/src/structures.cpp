@@ -1,0 +1,225 @@
+// Platforms, tunnels, bridges, fences and signals along the main track.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "assets.hpp"
+#include "trainsim/core/random.hpp"
+
+namespace trainsim::environment::detail {
+namespace {
+
+// Outermost track offsets over a chainage range (sampled every 10 m).
+std::pair<double, double> outermostOver(const track::Layout& layout, double x0, double x1) {
+  double left = 0.0, right = 0.0;
+  for (double x = x0;; x = std::min(x1, x + 10.0)) {
+    const auto [l, r] = outermostOffsets(layout, x);
+    left = std::max(left, l);
+    right = std::min(right, r);
+    if (x >= x1)
+      break;
+  }
+  return {left, right};
+}
+
+// A horseshoe of radius r around (centre, 0): a half circle above `spring` and walls down to
+// the floor, points counter-clockwise seen along the track (inside facing in: callers flip).
+std::vector<Eigen::Vector2d> horseshoe(double centre, double r, double spring, double floor,
+                                       int segments) {
+  std::vector<Eigen::Vector2d> out;
+  out.emplace_back(centre + r, floor);
+  for (int i = 0; i <= segments; ++i) {
+    const double a = std::numbers::pi * i / segments;
+    out.emplace_back(centre + r * std::cos(a), spring + r * std::sin(a));
+  }
+  out.emplace_back(centre - r, floor);
+  return out;
+}
+
+}  // namespace
+
+void addStructures(TileContext& ctx) {
+  const AssetParams& A = ctx.env.params().assets;
+  const terrain::TerrainParams& T = ctx.env.params().terrain;
+  const terrain::Railway& railway = ctx.env.railway();
+  const auto& layout = railway.layout();
+  const double formation = T.formation_depth_m;
+  for (const terrain::Structure& s : railway.structures()) {
+    const auto runs = ownedRuns(ctx, 0, s.chainage_begin_m, s.chainage_end_m);
+    if (runs.empty())
+      continue;
+    const auto [left, right] = outermostOver(layout, s.chainage_begin_m, s.chainage_end_m);
+    auto mesh = std::make_shared<scene::Mesh>();
+    int kind = kPlatformLeft;
+    if (s.type == track::BlockType::kStation) {
+      // Side platforms beyond the outermost track on each side, level with platform_height_m
+      // above the top of rail, their fronts down to the formation.
+      mesh->beginPart(scene::cls::kPlatform, scene::mat::kConcrete);
+      for (const int side : {1, -1}) {
+        const double edge = side > 0 ? left + A.platform_edge_m : right - A.platform_edge_m;
+        const double back = edge + side * A.platform_width_m;
+        std::vector<Eigen::Vector2d> box = {{edge, -formation},
+                                            {edge, A.platform_height_m},
+                                            {back, A.platform_height_m},
+                                            {back, -formation}};
+        for (const auto& run : runs)
+          extrude(*mesh, ctx, run, box, true);
+      }
+    } else if (s.type == track::BlockType::kTunnel) {
+      // One tube around all tracks, crown tunnel_crown_m above the rails, lining facing in.
+      kind = kTunnel;
+      mesh->beginPart(scene::cls::kTunnel, scene::mat::kConcrete);
+      const double centre = 0.5 * (left + right);
+      const double r = std::max(T.tunnel_half_width_m - 1.0, 0.5 * (left - right) + 3.0);
+      const double spring = T.tunnel_crown_m - r;
+      auto lining = horseshoe(centre, r, spring, -formation, 16);
+      std::reverse(lining.begin(), lining.end());  // clockwise: normals face the inside
+      for (const auto& run : runs) {
+        // extrude() orients closed profiles outward; the lining is open, so the order decides.
+        extrude(*mesh, ctx, run, lining, false);
+      }
+      // Portal rings at the ends this tile owns: between the lining and a larger horseshoe.
+      for (const double x : {s.chainage_begin_m, s.chainage_end_m}) {
+        const track::TrackFrame f = railway.frame(0, x);
+        if (!ctx.owns(f.position))
+          continue;
+        const auto inner = horseshoe(centre, r, spring, -formation, 16);
+        const auto outer = horseshoe(centre, r + 3.0, spring, -formation, 16);
+        const double facing = x == s.chainage_begin_m ? -1.0 : 1.0;  // out of the tunnel
+        const auto base = static_cast<std::uint32_t>(mesh->vertices.size());
+        for (std::size_t i = 0; i < inner.size(); ++i) {
+          mesh->addVertex(ctx.local(f.position + inner[i].x() * f.left + inner[i].y() * f.up));
+          mesh->addVertex(ctx.local(f.position + outer[i].x() * f.left + outer[i].y() * f.up));
+        }
+        for (std::uint32_t i = 0; i + 1 < inner.size(); ++i) {
+          const std::uint32_t a = base + 2 * i, b = base + 2 * i + 1, c = base + 2 * i + 3,
+                              d = base + 2 * i + 2;
+          if (facing > 0)
+            mesh->addQuad(a, b, c, d);
+          else
+            mesh->addQuad(a, d, c, b);
+        }
+      }
+    } else if (s.type == track::BlockType::kBridge) {
+      // Deck under the ballast of all tracks, parapets on both edges, piers down to the valley.
+      kind = kBridge;
+      mesh->beginPart(scene::cls::kBridge, scene::mat::kConcrete);
+      const double l = left + 3.0, rr = right - 3.0, deck = 1.5;
+      const std::vector<Eigen::Vector2d> slab = {
+          {l, -formation - deck}, {l, -formation}, {rr, -formation}, {rr, -formation - deck}};
+      const std::vector<Eigen::Vector2d> parapet_l = {
+          {l, -formation}, {l, 1.0}, {l - 0.3, 1.0}, {l - 0.3, -formation}};
+      const std::vector<Eigen::Vector2d> parapet_r = {
+          {rr + 0.3, -formation}, {rr + 0.3, 1.0}, {rr, 1.0}, {rr, -formation}};
+      for (const auto& run : runs) {
+        extrude(*mesh, ctx, run, slab, true);
+        extrude(*mesh, ctx, run, parapet_l, true);
+        extrude(*mesh, ctx, run, parapet_r, true);
+      }
+      const double length = s.chainage_end_m - s.chainage_begin_m;
+      const int piers = static_cast<int>(std::floor(length / A.bridge_pier_spacing_m));
+      for (int p = 1; p < piers; ++p) {
+        const double x = s.chainage_begin_m + length * p / piers;
+        const track::TrackFrame f = railway.frame(0, x);
+        const Eigen::Vector3d top =
+            f.position + 0.5 * (l + rr) * f.left - (formation + deck) * f.up;
+        if (!ctx.owns(top))
+          continue;
+        const double bottom_z = top.z() - T.valley_depth_m - 3.0;
+        const Eigen::Vector3d c(top.x(), top.y(), 0.5 * (top.z() + bottom_z));
+        scene::addOrientedBox(
+            *mesh, ctx.local(c), (1.0 * f.tangent).cast<float>(),
+            (0.35 * (l - rr) * f.left).cast<float>(),
+            Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top.z() - bottom_z))));
+      }
+    }
+    if (!mesh->triangles.empty())
+      ctx.tile.objects.push_back(
+          scene::Object::place(mesh, ctx.origin, Eigen::Matrix3f::Identity(),
+                               scene::trackAssetInstance(0, kind, s.block_id)));
+  }
+}
+
+void addFencesAndSignals(TileContext& ctx) {
+  const AssetParams& A = ctx.env.params().assets;
+  const terrain::Railway& railway = ctx.env.railway();
+  const auto& layout = railway.layout();
+  const auto& blocks = railway.route().blocks;
+  const RandomStream fences(ctx.env.seed(), "assets/fence");
+  const double formation = ctx.env.params().terrain.formation_depth_m;
+  for (const track::Block& b : blocks) {
+    if (b.type != track::BlockType::kStraight && b.type != track::BlockType::kCurve)
+      continue;
+    // Fences: per block and side with fence_probability, posts every 2.5 m and two strands.
+    for (const int side : {1, -1}) {
+      const double u = fences.uniform4(static_cast<std::uint64_t>(b.id), side > 0 ? 0 : 1)[0];
+      if (u > A.fence_probability)
+        continue;
+      auto posts = std::make_shared<scene::Mesh>();
+      posts->beginPart(scene::cls::kFence, scene::mat::kGalvanisedSteel);
+      const auto instance = scene::trackAssetInstance(0, kFence, b.id * 2 + (side > 0 ? 0 : 1));
+      std::vector<Eigen::Vector3d> strand;
+      const auto flush = [&] {
+        for (const double h : {0.5, 1.2})
+          if (strand.size() > 1) {
+            scene::Wire w{{}, 0.002f, scene::cls::kFence, scene::mat::kGalvanisedSteel, instance};
+            for (const auto& p : strand)
+              w.points.push_back(ctx.local(p + Eigen::Vector3d(0, 0, h)));
+            ctx.tile.wires.push_back(std::move(w));
+          }
+        strand.clear();
+      };
+      for (double x = b.chainage_begin_m + 1.25; x < b.chainage_end_m; x += 2.5) {
+        const auto [l, r] = outermostOffsets(layout, x);
+        const double lateral = side > 0 ? l + A.fence_offset_m : r - A.fence_offset_m;
+        const track::TrackFrame f = railway.frame(0, x);
+        Eigen::Vector3d hl(f.left.x(), f.left.y(), 0.0);
+        hl.normalize();
+        Eigen::Vector3d p = f.position + lateral * hl;
+        if (!ctx.owns(p)) {
+          flush();
+          continue;
+        }
+        p.z() = ctx.env.terrain().heightAt(p.x(), p.y());
+        scene::addBox(*posts, ctx.local(p) - Eigen::Vector3f(0.04f, 0.04f, 0.3f),
+                      ctx.local(p) + Eigen::Vector3f(0.04f, 0.04f, 1.4f));
+        strand.push_back(p);
+      }
+      flush();
+      if (!posts->triangles.empty())
+        ctx.tile.objects.push_back(
+            scene::Object::place(posts, ctx.origin, Eigen::Matrix3f::Identity(), instance));
+    }
+  }
+  // Signals at the start of every main block after the first: on the left of the main track,
+  // and for the double track on its right, facing the train.
+  const bool has_double =
+      layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  const auto& proto = ctx.env.signalPrototype();
+  for (std::size_t i = 1; i < blocks.size(); ++i) {
+    const double x = blocks[i].chainage_begin_m - 20.0;
+    if (x < 0.0)
+      continue;
+    const auto [l, r] = outermostOffsets(layout, x);
+    for (const int track_id : {0, 1}) {
+      if (track_id == 1 && !has_double)
+        continue;
+      const track::TrackFrame f = railway.frame(0, x);
+      Eigen::Vector3d hl(f.left.x(), f.left.y(), 0.0);
+      hl.normalize();
+      const double lateral = track_id == 0 ? l + A.signal_offset_m : r - A.signal_offset_m;
+      const Eigen::Vector3d p = f.position + lateral * hl - Eigen::Vector3d(0, 0, formation);
+      if (!ctx.owns(p))
+        continue;
+      const double yaw = std::atan2(f.tangent.y(), f.tangent.x());
+      Eigen::Matrix3f rot;
+      rot << static_cast<float>(std::cos(yaw)), static_cast<float>(-std::sin(yaw)), 0.0f,
+          static_cast<float>(std::sin(yaw)), static_cast<float>(std::cos(yaw)), 0.0f, 0.0f, 0.0f,
+          1.0f;
+      ctx.tile.objects.push_back(scene::Object::place(
+          proto, p, rot, scene::trackAssetInstance(track_id, kSignal, blocks[i].id)));
+    }
+  }
+}
+
+}  // namespace trainsim::environment::detail

@@ -1,0 +1,119 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trainsim/scene/mesh.hpp"
+#include "trainsim/scene/scene.hpp"
+#include "trainsim/terrain/railway.hpp"
+
+namespace trainsim::terrain {
+
+/// The landscape generator's parameters (the paper's §Landscape Generation, with the valleys,
+/// tunnel cover and cuts it describes). Lengths in m.
+struct TerrainParams {
+  double spacing_m = 1.0;           ///< between height-map vertices
+  int tile_vertices = 1009;         ///< per side of a tile (the paper's 1009 × 1009)
+  double tile_margin_m = 250.0;     ///< tiles within this plan distance of a track exist
+  double d_near_m = 3.5;            ///< within this of a track the ground is at its formation
+  double d_near_station_m = 12.0;   ///< the same in stations (room for platforms)
+  double d_far_m = 30.0;            ///< beyond this the ground is the noise height
+  double formation_depth_m = 0.75;  ///< top of rail down to the ground under the ballast
+  // Fractal value noise: octaves of halving wavelength and `persistence`-scaled amplitude.
+  int octaves = 5;
+  double amplitude_m = 8.0;
+  double wavelength_m = 500.0;
+  double persistence = 0.5;
+  /// The level the noise rides on: the tracks' formation height, inverse-distance weighted over
+  /// points every 25 m of every track within this radius, so the far ground follows the route's
+  /// climbs and falls.
+  double regional_radius_m = 2500.0;
+  double valley_depth_m = 12.0;      ///< below the formation under the middle of a bridge
+  double valley_width_m = 120.0;     ///< half-width of a valley's full depth across the track
+  double tunnel_crown_m = 7.5;       ///< tunnel crown (top of the tube) above top of rail
+  double tunnel_cover_m = 5.0;       ///< ground above the crown
+  double tunnel_half_width_m = 7.0;  ///< of the tube's outside around the tracks
+  double cut_slope = 1.0;            ///< rise per metre of the cutting sides at tunnel portals
+  double hill_slope = 0.6;           ///< fall per metre of the ground beside a tunnel
+
+  double tileSize() const { return spacing_m * (tile_vertices - 1); }
+};
+
+/// The height map of one tile: tile_vertices² heights (world z, double), row-major with x
+/// fastest, vertex (c, r) at world (origin.x + c·spacing, origin.y + r·spacing). A pure function
+/// of (railway, params, seed, index): bit-identical in any order, on any thread; a tile's border
+/// vertices equal its neighbours' exactly (meshes hold them in float relative to each tile's
+/// own origin, so there they agree to the float's rounding, about 10 µm).
+struct TerrainTile {
+  scene::TileIndex index;
+  int n = 0;
+  double spacing_m = 1.0;
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  double z0 = 0.0;  ///< a whole metre at or below the lowest height (the tile origin's z)
+  std::vector<double> heights;
+
+  double height(int c, int r) const { return heights[static_cast<std::size_t>(r) * n + c]; }
+  Eigen::Vector3d vertex(int c, int r) const {
+    return {origin.x() + c * spacing_m, origin.y() + r * spacing_m, height(c, r)};
+  }
+};
+
+/// What decided a vertex's height (for tests and previews).
+struct HeightParts {
+  double d_open = 0.0;    ///< plan distance to the nearest track outside tunnels (inf: none near)
+  double z_open = 0.0;    ///< that track point's height (top of rail)
+  bool station = false;   ///< that point lies in a station
+  double d_tunnel = 0.0;  ///< plan distance to the nearest track in a tunnel (inf: none near)
+  double z_tunnel = 0.0;
+  double far = 0.0;  ///< regional level + noise
+  double noise = 0.0;
+  double valley = 0.0;  ///< depth cut by bridge valleys (≥ 0)
+};
+
+/// The landscape: which tiles exist and each tile's heights.
+class Terrain {
+ public:
+  Terrain(std::shared_ptr<const Railway> railway, TerrainParams params, std::uint64_t seed);
+
+  const TerrainParams& params() const { return params_; }
+  scene::TileGrid grid() const { return {params_.tileSize()}; }
+  /// Tiles within tile_margin_m of any track (from the railway's run boxes and a finer check
+  /// on each run's points).
+  const std::set<scene::TileIndex>& tiles() const { return tiles_; }
+
+  /// The tile's heights.
+  TerrainTile tile(scene::TileIndex index) const;
+  /// The height at one world point, by the same rules as tile() (not from a tile: it builds a
+  /// small index around the point), and what decided it.
+  double heightAt(double x, double y, HeightParts* parts = nullptr) const;
+  /// The noise height alone (regional level excluded).
+  double noise(double x, double y) const;
+
+  const Railway& railway() const { return *railway_; }
+
+ private:
+  struct Field;
+  void fill(Field& field) const;
+
+  std::shared_ptr<const Railway> railway_;
+  TerrainParams params_;
+  std::uint64_t seed_;
+  std::set<scene::TileIndex> tiles_;
+};
+
+/// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`.
+scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
+                        scene::MaterialId material);
+
+/// Writes the tile as a 16-bit greyscale PNG (value v: height z0 + v·scale, scale 1 cm or more
+/// for tall tiles) plus a JSON file with the same stem holding index, size, spacing, origin,
+/// z0 and scale. Both atomically.
+void writeHeightPng(const TerrainTile& tile, const std::filesystem::path& png);
+
+}  // namespace trainsim::terrain
