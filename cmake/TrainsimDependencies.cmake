@@ -7,6 +7,8 @@ find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(Threads REQUIRED)
+# CGAL 5.5 (header-only with GMP/MPFR): the terrain's Delaunay simplification.
+find_package(CGAL REQUIRED)
 # libpng: 16-bit height maps and, later, depth, semantic and instance images.
 find_package(PNG REQUIRED)
 # oneTBB: the run loop's worker arena (sim) and, later, the LiDAR's column split.

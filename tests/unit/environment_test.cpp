@@ -558,24 +558,35 @@ TEST(Scene, ARailwayAThousandKilometresOutKeepsItsVerticesToAMillimetre) {
                                                                     w.stage->layout->layout, shift);
   const environment::Environment far(far_railway, w.env().params(), w.scenario.seed());
   ASSERT_GT(shift.x(), 1.0e6);
-  const scene::TileIndex t = *w.env().tiles().begin();
-  const scene::TileIndex tf{t.i + static_cast<std::int32_t>(std::lround(shift.x() / tile)), t.j};
-  ASSERT_TRUE(far.tiles().contains(tf));
-  const auto near_tile = w.env().tile(t);
-  const auto far_tile = far.tile(tf);
-  ASSERT_EQ(near_tile->objects.size(), far_tile->objects.size());
   double worst = 0.0;
   std::size_t vertices = 0;
-  for (std::size_t k = 0; k < near_tile->objects.size(); ++k) {
-    const auto& a = near_tile->objects[k];
-    const auto& b = far_tile->objects[k];
-    ASSERT_EQ(a.mesh->vertices.size(), b.mesh->vertices.size());
-    for (std::uint32_t v = 0; v < a.mesh->vertices.size(); v += 3) {
-      worst = std::max(worst, (b.worldVertex(v) - a.worldVertex(v) - shift).norm());
-      ++vertices;
+  for (const double chainage :
+       {300.0, 1700.0, 3000.0}) {  // a tunnel portal, the station, the bridge
+    const Eigen::Vector3d at = w.railway().frame(0, chainage).position;
+    const scene::TileIndex t = w.env().grid().tileAt(at.x(), at.y());
+    const scene::TileIndex tf{t.i + static_cast<std::int32_t>(std::lround(shift.x() / tile)), t.j};
+    ASSERT_TRUE(far.tiles().contains(tf));
+    const auto near_tile = w.env().tile(t);
+    const auto far_tile = far.tile(tf);
+    ASSERT_EQ(near_tile->objects.size(), far_tile->objects.size());
+    for (std::size_t k = 0; k < near_tile->objects.size(); ++k) {
+      const auto& a = near_tile->objects[k];
+      const auto& b = far_tile->objects[k];
+      ASSERT_EQ(a.mesh->vertices.size(), b.mesh->vertices.size());
+      for (std::uint32_t v = 0; v < a.mesh->vertices.size(); ++v) {
+        worst = std::max(worst, (b.worldVertex(v) - a.worldVertex(v) - shift).norm());
+        ++vertices;
+      }
     }
+    ASSERT_EQ(near_tile->wires.size(), far_tile->wires.size());
+    for (std::size_t k = 0; k < near_tile->wires.size(); ++k)
+      for (std::size_t v = 0; v < near_tile->wires[k].points.size(); ++v) {
+        const Eigen::Vector3d a = near_tile->origin + near_tile->wires[k].points[v].cast<double>();
+        const Eigen::Vector3d b = far_tile->origin + far_tile->wires[k].points[v].cast<double>();
+        worst = std::max(worst, (b - a - shift).norm());
+      }
   }
-  EXPECT_GT(vertices, 10000u);
+  EXPECT_GT(vertices, 100000u);
   EXPECT_LT(worst, 1e-3);
 }
 
@@ -614,6 +625,115 @@ TEST(Scene, ParaViewReadsTheExportedMultiblock) {
     EXPECT_LT(std::abs(p[0]), 1e4);  // relative to the origin, not world-sized
   }
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace trainsim
+
+namespace trainsim {
+namespace {
+
+TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
+  // Brute force: every grid point is located in the simplified mesh by scanning all its
+  // triangles, and its height compared with the triangle's plane.
+  const World w = makeWorld({{"terrain", {{"tile_vertices", 65}}}});
+  int tiles = 0;
+  for (const auto& index : w.env().tiles()) {
+    if (++tiles > 6)
+      break;
+    const terrain::TerrainTile t = w.env().terrain().tile(index);
+    const Eigen::Vector3d origin(t.origin.x(), t.origin.y(), t.z0);
+    for (const double tol : {0.02, 0.25}) {
+      const terrain::SimplifiedMesh s =
+          terrain::simplifiedTerrainMesh(t, origin, scene::mat::kGrass, tol);
+      EXPECT_LE(s.max_error_m, tol);
+      EXPECT_LT(s.mesh.triangles.size(), 2u * 64 * 64);
+      double worst = 0.0;
+      for (int r = 0; r < t.n; ++r)
+        for (int c = 0; c < t.n; ++c) {
+          const Eigen::Vector2d p(c * t.spacing_m, r * t.spacing_m);
+          bool found = false;
+          for (const auto& tri : s.mesh.triangles) {
+            Eigen::Vector3d v[3];
+            for (int k = 0; k < 3; ++k)
+              v[k] = s.mesh.vertices[tri[k]].cast<double>();
+            const double area = (v[1] - v[0]).head<2>().x() * (v[2] - v[0]).head<2>().y() -
+                                (v[2] - v[0]).head<2>().x() * (v[1] - v[0]).head<2>().y();
+            ASSERT_GT(area, 0.0);  // counter-clockwise from above
+            const auto edge = [&](int a, int b) {
+              return ((v[b] - v[a]).x() * (p.y() - v[a].y()) -
+                      (v[b] - v[a]).y() * (p.x() - v[a].x())) /
+                     area;
+            };
+            const double l0 = edge(1, 2), l1 = edge(2, 0), l2 = edge(0, 1);
+            if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
+              continue;
+            found = true;
+            const double plane = l0 * v[0].z() + l1 * v[1].z() + l2 * v[2].z();
+            worst = std::max(worst, std::abs(t.height(c, r) - t.z0 - plane));
+            break;
+          }
+          ASSERT_TRUE(found) << "grid point " << c << ", " << r << " outside the mesh";
+        }
+      EXPECT_LE(worst, tol + 1e-4);  // float vertices
+    }
+  }
+}
+
+}  // namespace
+}  // namespace trainsim
+
+namespace trainsim {
+namespace {
+
+TEST(Assets, MastsSignalsAndFencesStayOutOfEveryTracksClearanceGauge) {
+  // Below the top of the kinematic gauge (4.35 m above the rails, UIC GB), nothing of a mast,
+  // signal or fence comes closer than 2.2 m (plan) to any track centre: the gauge's half-width
+  // of about 1.7 m and a margin. The cantilevers reach over the track above it.
+  const World& w = defaultWorld();
+  const auto segments = allSegments(w);
+  std::map<std::pair<long, long>, std::vector<const Segment*>> grid;
+  for (const auto& s : segments) {
+    const Eigen::Vector2d m = 0.5 * (s.a + s.b).head<2>();
+    grid[{std::lround(std::floor(m.x() / 20.0)), std::lround(std::floor(m.y() / 20.0))}].push_back(
+        &s);
+  }
+  std::size_t checked = 0;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      if (scene::instanceSource(o.instance) != scene::InstanceSource::kTrackAsset)
+        continue;
+      const int kind = static_cast<int>((o.instance >> 36) & 0xFF);
+      if (kind != 3 && kind != 11 && kind != 12)
+        continue;  // masts, fences, signals
+      for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+        const Eigen::Vector3d p = o.worldVertex(v);
+        double best = std::numeric_limits<double>::infinity(), z = 0.0;
+        const long gx = std::lround(std::floor(p.x() / 20.0)),
+                   gy = std::lround(std::floor(p.y() / 20.0));
+        for (long dx = -1; dx <= 1; ++dx)
+          for (long dy = -1; dy <= 1; ++dy) {
+            const auto it = grid.find({gx + dx, gy + dy});
+            if (it == grid.end())
+              continue;
+            for (const Segment* s : it->second) {
+              const Eigen::Vector2d u = (s->b - s->a).head<2>();
+              const double t =
+                  std::clamp((p.head<2>() - s->a.head<2>()).dot(u) / u.squaredNorm(), 0.0, 1.0);
+              const double d = (p.head<2>() - s->a.head<2>() - t * u).norm();
+              if (d < best) {
+                best = d;
+                z = s->a.z() + t * (s->b.z() - s->a.z());
+              }
+            }
+          }
+        if (p.z() > z + 4.35)
+          continue;
+        ++checked;
+        ASSERT_GE(best, 2.2) << "asset kind " << kind << " at " << p.transpose();
+      }
+    }
+  EXPECT_GT(checked, 10000u);
 }
 
 }  // namespace

@@ -52,10 +52,15 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index) con
   const scene::TileGrid g = grid();
   const Eigen::Vector2d lo = g.corner(index);
   tile->origin = {lo.x(), lo.y(), heights.z0};
+  // The ground: simplified to its vertical tolerance (CGAL), or the full grid.
+  const double tolerance = params_.terrain.simplify_tolerance_m;
+  auto ground =
+      tolerance > 0.0
+          ? terrain::simplifiedTerrainMesh(heights, tile->origin, ground_material_, tolerance).mesh
+          : terrain::terrainMesh(heights, tile->origin, ground_material_);
   tile->objects.push_back(
-      scene::Object::place(std::make_shared<const scene::Mesh>(
-                               terrain::terrainMesh(heights, tile->origin, ground_material_)),
-                           tile->origin, Eigen::Matrix3f::Identity(), 0));
+      scene::Object::place(std::make_shared<const scene::Mesh>(std::move(ground)), tile->origin,
+                           Eigen::Matrix3f::Identity(), 0));
   detail::TileContext ctx{*this,        index, lo, lo + Eigen::Vector2d::Constant(g.size_m),
                           tile->origin, *tile};
   throwIfCancelled();

@@ -7,13 +7,16 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
+#include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkMultiBlockDataSet.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkTypeUInt64Array.h>
 #include <vtkUnsignedShortArray.h>
+#include <vtkXMLImageDataWriter.h>
 #include <vtkXMLMultiBlockDataWriter.h>
 
 #include "trainsim/core/error.hpp"
@@ -144,6 +147,35 @@ void writeVtm(std::span<const std::shared_ptr<const Tile>> tiles, const std::fil
   if (ec)
     throw IoError(
         fmt::format("{}: cannot move the scene into place: {}", vtm.string(), ec.message()));
+}
+
+void writeHeightVti(const std::filesystem::path& vti, int n, const Eigen::Vector2d& origin,
+                    double spacing_m, std::span<const double> heights) {
+  namespace fs = std::filesystem;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(n, n, 1);
+  image->SetOrigin(origin.x(), origin.y(), 0.0);
+  image->SetSpacing(spacing_m, spacing_m, 1.0);
+  vtkNew<vtkDoubleArray> height;
+  height->SetName("height_m");
+  height->SetNumberOfValues(static_cast<vtkIdType>(heights.size()));
+  for (std::size_t i = 0; i < heights.size(); ++i)
+    height->SetValue(static_cast<vtkIdType>(i), heights[i]);
+  image->GetPointData()->SetScalars(height);
+  const fs::path temp = vti.parent_path() / ("." + vti.filename().string() + ".partial");
+  vtkNew<vtkXMLImageDataWriter> writer;
+  writer->SetFileName(temp.string().c_str());
+  writer->SetInputData(image);
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToZLib();
+  std::error_code ec;
+  if (writer->Write() != 1) {
+    fs::remove(temp, ec);
+    throw IoError(fmt::format("{}: VTK could not write the height grid", vti.string()));
+  }
+  fs::rename(temp, vti, ec);
+  if (ec)
+    throw IoError(fmt::format("{}: cannot move it into place: {}", vti.string(), ec.message()));
 }
 
 }  // namespace trainsim::scene

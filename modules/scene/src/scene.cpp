@@ -1,6 +1,7 @@
 #include "trainsim/scene/scene.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace trainsim::scene {
@@ -148,6 +149,16 @@ std::size_t SceneStream::cached() const {
   std::lock_guard lock(mutex_);
   return cache_.size();
 }
+std::size_t SceneStream::bytes() const {
+  std::lock_guard lock(mutex_);
+  std::size_t total = 0;
+  for (const auto& [index, slot] : cache_)
+    if (slot.tile.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+      if (const auto tile = slot.tile.get())
+        total += tile->bytes();
+  return total;
+}
+
 std::int64_t SceneStream::made() const {
   std::lock_guard lock(mutex_);
   return made_;

@@ -73,6 +73,9 @@ const scenario::Section<terrain::TerrainParams>& terrainSection() {
     b.number("hill_slope", &T::hill_slope, units::kNone,
              "Fall per metre of the ground beside a tunnel")
         .range(0.1, 5);
+    b.number("simplify_tolerance_m", &T::simplify_tolerance_m, kM,
+             "Terrain meshes within this vertical error of the grid (0: the full grid)")
+        .range(0, 5);
     b.notAbove(&T::d_near_m, &T::d_far_m);
     b.notAbove(&T::d_near_station_m, &T::d_far_m);
     return s;

@@ -19,4 +19,10 @@ namespace trainsim::scene {
 void writeVtm(std::span<const std::shared_ptr<const Tile>> tiles, const std::filesystem::path& vtm,
               const Eigen::Vector3d& origin);
 
+/// Writes a height grid as VTK image data (.vti) for ParaView: n × n points at `origin` (x, y)
+/// with `spacing`, point array `height_m` (world z, double), to be shown with Warp By Scalar.
+/// Atomic (temporary file, then renamed); throws IoError naming the file.
+void writeHeightVti(const std::filesystem::path& vti, int n, const Eigen::Vector2d& origin,
+                    double spacing_m, std::span<const double> heights);
+
 }  // namespace trainsim::scene

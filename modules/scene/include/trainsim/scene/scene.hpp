@@ -103,6 +103,8 @@ class SceneStream {
   /// Tiles held now, tiles made so far (a dropped tile asked for again is made again).
   std::size_t cached() const;
   std::int64_t made() const;
+  /// Bytes the held tiles own (Tile::bytes), the scene's share of memory.
+  std::size_t bytes() const;
 
  private:
   struct Slot {

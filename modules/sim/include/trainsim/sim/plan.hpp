@@ -160,7 +160,8 @@ std::shared_ptr<const EnvironmentStage> makeEnvironment(const Plan& plan,
 
 /// What `plan --scene` writes into OUT/scene/: every terrain tile as a 16-bit PNG with its JSON
 /// metadata (terrain/tile_I_J.png), every trackside object (objects.csv), and the tiles along
-/// the main track between main chainage `from_m` and `to_m` as scene.vtm for ParaView.
+/// the main track between main chainage `from_m` and `to_m` as scene.vtm for ParaView, with
+/// those tiles' height maps also as VTK image data (terrain/tile_I_J.vti).
 struct SceneExport {
   double from_m = 0.0;
   double to_m = 1000.0;

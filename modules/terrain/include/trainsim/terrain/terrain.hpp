@@ -41,6 +41,9 @@ struct TerrainParams {
   double tunnel_half_width_m = 7.0;  ///< of the tube's outside around the tracks
   double cut_slope = 1.0;            ///< rise per metre of the cutting sides at tunnel portals
   double hill_slope = 0.6;           ///< fall per metre of the ground beside a tunnel
+  /// Terrain meshes simplified to this vertical error (CGAL greedy-insertion TIN); 0 keeps the
+  /// full grid.
+  double simplify_tolerance_m = 0.02;
 
   double tileSize() const { return spacing_m * (tile_vertices - 1); }
 };
@@ -110,6 +113,17 @@ class Terrain {
 /// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`.
 scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
                         scene::MaterialId material);
+
+/// The tile as a triangulated irregular network within `tolerance_m` of every grid height
+/// (vertical error, exact by construction): greedy insertion of the worst grid point into a
+/// Delaunay triangulation in plan (CGAL), every border vertex kept so tiles still meet exactly.
+/// Counter-clockwise from above; the same bytes for the same tile.
+struct SimplifiedMesh {
+  scene::Mesh mesh;
+  double max_error_m = 0.0;  ///< the largest vertical distance of a grid point from the mesh
+};
+SimplifiedMesh simplifiedTerrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
+                                     scene::MaterialId material, double tolerance_m);
 
 /// Writes the tile as a 16-bit greyscale PNG (value v: height z0 + v·scale, scale 1 cm or more
 /// for tall tiles) plus a JSON file with the same stem holding index, size, spacing, origin,
