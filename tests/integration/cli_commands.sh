@@ -46,6 +46,8 @@ for f in pngs:
 rows = list(csv.DictReader(open(os.path.join(root, "objects.csv"))))
 assert len(rows) > 100 and {r["kind"] for r in rows} >= {"trees", "bushes"}, len(rows)
 assert len({r["instance"] for r in rows}) == len(rows)
+vtis = [f for f in os.listdir(os.path.join(root, "terrain")) if f.endswith(".vti")]
+assert vtis and all(open(os.path.join(root, "terrain", f), "rb").read(200).find(b"ImageData") > 0 for f in vtis), vtis
 vtm = open(os.path.join(root, "scene.vtm")).read()
 assert "vtkMultiBlockDataSet" in vtm
 for name in vtm.split('file="')[1:]:

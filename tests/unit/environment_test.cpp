@@ -422,11 +422,32 @@ TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
         }
         const track::TrackFrame f = w.railway().frame(track_id, 0.5 * (lo + hi));
         const Eigen::Vector3d r = p - f.position;
-        EXPECT_LE(std::abs(r.dot(f.left)), A.stagger_m + 0.01);
+        EXPECT_LE(std::abs(r.dot(f.left)), A.stagger_m + 0.01)
+            << "track " << track_id << " span " << (wire.instance & 0xFFFFFFFFFull) << " at " << s
+            << "/8, chainage " << 0.5 * (lo + hi);
         EXPECT_NEAR(r.dot(f.up), A.contact_height_m, 0.05);
       }
     }
   EXPECT_GT(spans, 150);
+  // Continuous from span to span over the whole route, tile borders included: each span starts
+  // where the one before it ends.
+  std::map<std::pair<int, std::int64_t>, std::pair<Eigen::Vector3d, Eigen::Vector3d>> ends;
+  for (const auto& tile : allTiles())
+    for (const auto& wire : tile->wires)
+      if (((wire.instance >> 36) & 0xFF) == 4)
+        ends[{static_cast<int>((wire.instance >> 44) & 0xFFF),
+              static_cast<std::int64_t>(wire.instance & 0xFFFFFFFFFull)}] = {
+            tile->origin + wire.points.front().cast<double>(),
+            tile->origin + wire.points.back().cast<double>()};
+  int joints = 0;
+  for (auto it = ends.begin(); std::next(it) != ends.end(); ++it) {
+    const auto next = std::next(it);
+    if (next->first.first != it->first.first || next->first.second != it->first.second + 1)
+      continue;
+    EXPECT_LT((it->second.second - next->second.first).norm(), 1e-3);
+    ++joints;
+  }
+  EXPECT_GT(joints, 150);
 }
 
 TEST(Objects, FootprintsNeverOverlapAndKeepClearOfEveryTrack) {

@@ -1,7 +1,9 @@
 #include "assets.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "trainsim/core/random.hpp"
@@ -269,13 +271,94 @@ double maxCurvature(const track::Track& main, double x0, double x1) {
 
 }  // namespace
 
+std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
+                                          int track) {
+  const auto& main = railway.main();
+  std::vector<CatenarySupport> out;
+  // Supports every span along each block, spans shortened in curves so that the track's offset
+  // from a span's chord at mid-span, L²κ/8, stays within 1.5 × the stagger (with both ends on
+  // the outside the wire then stays within ±stagger).
+  const double a = A.stagger_m;
+  for (const track::Block& block : railway.route().blocks) {
+    const double c0 = block.chainage_begin_m, c1 = block.chainage_end_m;
+    const double kappa = maxCurvature(main, c0, c1);
+    double span = A.mast_span_m;
+    if (kappa > 0.0)
+      span = std::min(span, std::sqrt(8.0 * 1.5 * std::max(a, 0.05) / kappa));
+    const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
+    for (int k = 0; k < n; ++k)
+      out.push_back({c0 + (c1 - c0) * k / n, 0.0, block.type == track::BlockType::kTunnel,
+                     block.type == track::BlockType::kBridge});
+  }
+  if (railway.route().blocks.empty())
+    return out;
+  out.push_back(
+      {railway.route().blocks.back().chainage_end_m, 0.0, out.back().tunnel, out.back().bridge});
+  // Registrations: the wire between two supports is the chord, whose offset from the track
+  // centre is f(τ) = y_a + (y_b − y_a)τ + 4sτ(1 − τ) (s: the chord's offset at mid-span, + left).
+  // The staggers y_k are chosen among 21 levels in [−a, a] by dynamic programming (Viterbi):
+  // every span keeps |f| ≤ a everywhere, and among such choices the one closest to the zig-zag
+  // (+a, −a, +a, …) wins, which in curves puts both ends of a span on the outside.
+  const std::size_t n = out.size();
+  if (n < 2 || a <= 0.0)
+    return out;
+  constexpr int kLevels = 21;
+  const auto level = [a](int j) { return -a + 2.0 * a * j / (kLevels - 1); };
+  std::vector<double> mid_offset(n - 1);
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const track::TrackFrame fa = railway.frame(track, out[k].x_m);
+    const track::TrackFrame fb = railway.frame(track, out[k + 1].x_m);
+    const track::TrackFrame fm = railway.frame(track, 0.5 * (out[k].x_m + out[k + 1].x_m));
+    const Eigen::Vector3d pa = fa.position + A.contact_height_m * fa.up;
+    const Eigen::Vector3d pb = fb.position + A.contact_height_m * fb.up;
+    const Eigen::Vector3d pm = fm.position + A.contact_height_m * fm.up;
+    mid_offset[k] = (0.5 * (pa + pb) - pm).dot(fm.left);
+  }
+  // The largest |f| over the span for staggers (ya, yb): at the ends or at the vertex.
+  const auto worst = [](double ya, double yb, double s) {
+    double m = std::max(std::abs(ya), std::abs(yb));
+    if (s != 0.0) {
+      const double t = (yb - ya + 4.0 * s) / (8.0 * s);
+      if (t > 0.0 && t < 1.0)
+        m = std::max(m, std::abs(ya + (yb - ya) * t + 4.0 * s * t * (1.0 - t)));
+    }
+    return m;
+  };
+  const auto preferred = [a](std::size_t k) { return k % 2 == 0 ? a : -a; };
+  std::vector<std::array<double, kLevels>> cost(n);
+  std::vector<std::array<int, kLevels>> from(n);
+  for (int j = 0; j < kLevels; ++j)
+    cost[0][j] = std::abs(level(j) - preferred(0));
+  for (std::size_t k = 0; k + 1 < n; ++k)
+    for (int j = 0; j < kLevels; ++j) {
+      double best = std::numeric_limits<double>::infinity();
+      int arg = 0;
+      for (int i = 0; i < kLevels; ++i) {
+        // A span beyond the bound costs in proportion to its excess (only if none fits).
+        const double excess = std::max(0.0, worst(level(i), level(j), mid_offset[k]) - a - 1e-12);
+        const double c = cost[k][i] + 1e6 * excess;
+        if (c < best) {
+          best = c;
+          arg = i;
+        }
+      }
+      cost[k + 1][j] = best + std::abs(level(j) - preferred(k + 1));
+      from[k + 1][j] = arg;
+    }
+  int j = static_cast<int>(std::min_element(cost[n - 1].begin(), cost[n - 1].end()) -
+                           cost[n - 1].begin());
+  for (std::size_t k = n; k-- > 0;) {
+    out[k].stagger_m = level(j);
+    if (k > 0)
+      j = from[k][j];
+  }
+  return out;
+}
+
 void addCatenary(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
-  if (!A.catenary)
-    return;
   const terrain::Railway& railway = ctx.env.railway();
   const auto& layout = railway.layout();
-  const auto& main = railway.main();
   const double formation = ctx.env.params().terrain.formation_depth_m;
   // The main-track chainage range near this tile.
   double x_lo = 1e300, x_hi = -1e300;
@@ -284,117 +367,92 @@ void addCatenary(TileContext& ctx) {
     x_lo = std::min(x_lo, s.x0);
     x_hi = std::max(x_hi, s.x1);
   }
-  if (x_lo > x_hi)
-    return;
-  const bool has_double =
-      layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
-  const auto& blocks = railway.route().blocks;
-  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
-    const track::Block& block = blocks[bi];
-    const double c0 = block.chainage_begin_m, c1 = block.chainage_end_m;
-    if (c1 < x_lo || c0 > x_hi)
-      continue;
-    const bool tunnel = block.type == track::BlockType::kTunnel;
-    const bool bridge = block.type == track::BlockType::kBridge;
-    const double kappa = maxCurvature(main, c0, c1);
-    const bool curve = kappa > 1.0 / 20000.0;
-    // Both registrations on the outside in curves: the chord's mid-span sag toward the inside,
-    // L²κ/8, must stay within 2·stagger.
-    double span = A.mast_span_m;
-    if (curve)
-      span = std::min(span, std::sqrt(16.0 * A.stagger_m / kappa));
-    const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
-    const double step = (c1 - c0) / n;
-    const double sign = main.atChainage(0.5 * (c0 + c1)).curvature_1_m >= 0.0 ? 1.0 : -1.0;
-    for (int track_id : {0, 1}) {
-      if (track_id == 1 && !has_double)
-        continue;
-      const int side = track_id == 0 ? 1 : -1;
-      for (int k = 0; k < n; ++k) {
-        const double xa = c0 + k * step;
-        const double xb = k + 1 == n ? c1 : c0 + (k + 1) * step;
-        const std::int64_t index = static_cast<std::int64_t>(bi) * 4096 + k;
-        const auto stagger = [&](int kk) {
-          return curve ? -sign * A.stagger_m : ((kk % 2 == 0) ? A.stagger_m : -A.stagger_m);
-        };
-        const track::TrackFrame fa = railway.frame(track_id, xa);
-        const track::TrackFrame fb = railway.frame(track_id, xb);
-        const Eigen::Vector3d ra = fa.position + A.contact_height_m * fa.up + stagger(k) * fa.left;
-        const Eigen::Vector3d rb =
-            fb.position + A.contact_height_m * fb.up + stagger(k + 1) * fb.left;
-        if (!ctx.owns(ra))
-          continue;  // a span belongs to the tile of its first support
-        // Mast beside the outermost track on its side, standing vertical.
-        const track::TrackFrame fm = railway.frame(0, xa);
-        const auto [left, right] = outermostOffsets(layout, xa);
-        const double lateral = side > 0 ? left + A.mast_offset_m : right - A.mast_offset_m;
-        Eigen::Vector3d horizontal_left(fm.left.x(), fm.left.y(), 0.0);
-        horizontal_left.normalize();
-        const Eigen::Vector3d foot_xy = fm.position + lateral * horizontal_left;
-        const double top_z = fa.position.z() + A.mast_height_m;
-        const double support_z = ra.z() + A.system_height_m;
-        auto mast = std::make_shared<scene::Mesh>();
-        mast->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
-        if (!tunnel) {
-          const double foot_z =
-              bridge ? fm.position.z() - formation
-                     : std::min(fm.position.z() - formation,
-                                ctx.env.terrain().heightAt(foot_xy.x(), foot_xy.y())) -
-                           0.3;
-          const Eigen::Vector3d foot(foot_xy.x(), foot_xy.y(), foot_z);
-          const Eigen::Vector3d top(foot_xy.x(), foot_xy.y(), top_z);
-          const Eigen::Vector3f t = (0.15 * fm.tangent).cast<float>();
-          const Eigen::Vector3f l = (0.15 * horizontal_left).cast<float>();
-          scene::addOrientedBox(*mast, ctx.local(0.5 * (foot + top)), t, l,
-                                Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top_z - foot_z))));
-          // Cantilever (messenger support) and registration arm out to the contact wire.
-          const Eigen::Vector3d arm_root(foot_xy.x(), foot_xy.y(), support_z);
-          const Eigen::Vector3d over(ra.x(), ra.y(), support_z);
-          scene::addCylinder(*mast, ctx.local(arm_root), ctx.local(over), 0.04f, 0.04f, 6);
-          const Eigen::Vector3d brace_root(foot_xy.x(), foot_xy.y(), ra.z() - 0.4);
-          scene::addCylinder(*mast, ctx.local(brace_root), ctx.local(ra), 0.03f, 0.03f, 6);
-        } else {
-          // In tunnels the supports hang from the crown.
-          const Eigen::Vector3d crown(ra.x(), ra.y(),
-                                      fa.position.z() + ctx.env.params().terrain.tunnel_crown_m);
-          scene::addCylinder(*mast, ctx.local(Eigen::Vector3d(ra.x(), ra.y(), support_z)),
-                             ctx.local(crown), 0.04f, 0.04f, 6);
-        }
-        ctx.tile.objects.push_back(
-            scene::Object::place(mast, ctx.origin, Eigen::Matrix3f::Identity(),
-                                 scene::trackAssetInstance(track_id, kMast, index)));
-        // Contact wire (straight between registrations), messenger (a parabola from the
-        // supports down to sag at mid-span) and vertical droppers between them.
-        const double sag = std::min(0.6, A.system_height_m - 0.5);
-        const int drops =
-            std::max(1, static_cast<int>(std::ceil((rb - ra).norm() / A.dropper_spacing_m)));
-        scene::Wire contact{{ctx.local(ra), ctx.local(rb)},
-                            0.006f,
+  for (const int track_id : {0, 1}) {
+    const auto& supports = ctx.env.supports(track_id);
+    const int side = track_id == 0 ? 1 : -1;
+    const auto first =
+        std::lower_bound(supports.begin(), supports.end(), x_lo - A.mast_span_m,
+                         [](const CatenarySupport& s, double x) { return s.x_m < x; });
+    for (auto it = first;
+         it != supports.end() && std::next(it) != supports.end() && it->x_m <= x_hi; ++it) {
+      const CatenarySupport& sa = *it;
+      const CatenarySupport& sb = *std::next(it);
+      const auto index = static_cast<std::int64_t>(it - supports.begin());
+      const track::TrackFrame fa = railway.frame(track_id, sa.x_m);
+      const track::TrackFrame fb = railway.frame(track_id, sb.x_m);
+      const Eigen::Vector3d ra = fa.position + A.contact_height_m * fa.up + sa.stagger_m * fa.left;
+      const Eigen::Vector3d rb = fb.position + A.contact_height_m * fb.up + sb.stagger_m * fb.left;
+      if (!ctx.owns(ra))
+        continue;  // a span belongs to the tile of its first support
+      // Mast beside the outermost track on its side, standing vertical.
+      const track::TrackFrame fm = railway.frame(0, sa.x_m);
+      const auto [left, right] = outermostOffsets(layout, sa.x_m);
+      const double lateral = side > 0 ? left + A.mast_offset_m : right - A.mast_offset_m;
+      Eigen::Vector3d horizontal_left(fm.left.x(), fm.left.y(), 0.0);
+      horizontal_left.normalize();
+      const Eigen::Vector3d foot_xy = fm.position + lateral * horizontal_left;
+      const double top_z = fa.position.z() + A.mast_height_m;
+      const double support_z = ra.z() + A.system_height_m;
+      auto mast = std::make_shared<scene::Mesh>();
+      mast->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
+      if (!sa.tunnel) {
+        const double foot_z = sa.bridge
+                                  ? fm.position.z() - formation
+                                  : std::min(fm.position.z() - formation,
+                                             ctx.env.terrain().heightAt(foot_xy.x(), foot_xy.y())) -
+                                        0.3;
+        const Eigen::Vector3d foot(foot_xy.x(), foot_xy.y(), foot_z);
+        const Eigen::Vector3d top(foot_xy.x(), foot_xy.y(), top_z);
+        const Eigen::Vector3f t = (0.15 * fm.tangent).cast<float>();
+        const Eigen::Vector3f l = (0.15 * horizontal_left).cast<float>();
+        scene::addOrientedBox(*mast, ctx.local(0.5 * (foot + top)), t, l,
+                              Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top_z - foot_z))));
+        // Cantilever (messenger support) and registration arm out to the contact wire.
+        const Eigen::Vector3d arm_root(foot_xy.x(), foot_xy.y(), support_z);
+        const Eigen::Vector3d over(ra.x(), ra.y(), support_z);
+        scene::addCylinder(*mast, ctx.local(arm_root), ctx.local(over), 0.04f, 0.04f, 6);
+        const Eigen::Vector3d brace_root(foot_xy.x(), foot_xy.y(), ra.z() - 0.4);
+        scene::addCylinder(*mast, ctx.local(brace_root), ctx.local(ra), 0.03f, 0.03f, 6);
+      } else {
+        // In tunnels the supports hang from the crown.
+        const Eigen::Vector3d crown(ra.x(), ra.y(),
+                                    fa.position.z() + ctx.env.params().terrain.tunnel_crown_m);
+        scene::addCylinder(*mast, ctx.local(Eigen::Vector3d(ra.x(), ra.y(), support_z)),
+                           ctx.local(crown), 0.04f, 0.04f, 6);
+      }
+      ctx.tile.objects.push_back(
+          scene::Object::place(mast, ctx.origin, Eigen::Matrix3f::Identity(),
+                               scene::trackAssetInstance(track_id, kMast, index)));
+      // Contact wire (straight between registrations), messenger (a parabola from the supports
+      // down to sag at mid-span) and vertical droppers between them.
+      const double sag = std::min(0.6, A.system_height_m - 0.5);
+      const int drops =
+          std::max(1, static_cast<int>(std::ceil((rb - ra).norm() / A.dropper_spacing_m)));
+      scene::Wire contact{{ctx.local(ra), ctx.local(rb)},
+                          0.006f,
+                          scene::cls::kWire,
+                          scene::mat::kCopper,
+                          scene::trackAssetInstance(track_id, kContactWire, index)};
+      scene::Wire messenger{{},
+                            0.0055f,
                             scene::cls::kWire,
                             scene::mat::kCopper,
-                            scene::trackAssetInstance(track_id, kContactWire, index)};
-        scene::Wire messenger{{},
-                              0.0055f,
-                              scene::cls::kWire,
-                              scene::mat::kCopper,
-                              scene::trackAssetInstance(track_id, kMessenger, index)};
-        for (int j = 0; j <= drops; ++j) {
-          const double tau = static_cast<double>(j) / drops;
-          const Eigen::Vector3d on_contact = ra + tau * (rb - ra);
-          const Eigen::Vector3d on_messenger =
-              on_contact + Eigen::Vector3d(0, 0, A.system_height_m - 4.0 * sag * tau * (1.0 - tau));
-          messenger.points.push_back(ctx.local(on_messenger));
-          if (j > 0 && j < drops)
-            ctx.tile.wires.push_back(
-                {{ctx.local(on_contact), ctx.local(on_messenger)},
-                 0.0025f,
-                 scene::cls::kWire,
-                 scene::mat::kCopper,
-                 scene::trackAssetInstance(track_id, kDropper, index * 64 + j)});
-        }
-        ctx.tile.wires.push_back(std::move(contact));
-        ctx.tile.wires.push_back(std::move(messenger));
+                            scene::trackAssetInstance(track_id, kMessenger, index)};
+      for (int j = 0; j <= drops; ++j) {
+        const double tau = static_cast<double>(j) / drops;
+        const Eigen::Vector3d on_contact = ra + tau * (rb - ra);
+        const Eigen::Vector3d on_messenger =
+            on_contact + Eigen::Vector3d(0, 0, A.system_height_m - 4.0 * sag * tau * (1.0 - tau));
+        messenger.points.push_back(ctx.local(on_messenger));
+        if (j > 0 && j < drops)
+          ctx.tile.wires.push_back({{ctx.local(on_contact), ctx.local(on_messenger)},
+                                    0.0025f,
+                                    scene::cls::kWire,
+                                    scene::mat::kCopper,
+                                    scene::trackAssetInstance(track_id, kDropper, index * 64 + j)});
       }
+      ctx.tile.wires.push_back(std::move(contact));
+      ctx.tile.wires.push_back(std::move(messenger));
     }
   }
 }

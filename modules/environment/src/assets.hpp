@@ -60,6 +60,10 @@ void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FrameP
 /// chainage x: left ≥ 0, right ≤ 0.
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x);
 
+/// The catenary supports of a track (0 main, 1 double) along the whole route.
+std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
+                                          int track);
+
 void addTrackAssets(TileContext& ctx);
 void addCatenary(TileContext& ctx);
 void addStructures(TileContext& ctx);

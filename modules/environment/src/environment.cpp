@@ -33,6 +33,12 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
   signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
   scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
   signal_ = std::move(signal);
+  const auto& tracks = railway_->layout().tracks;
+  if (params_.assets.catenary) {
+    supports_[0] = detail::planSupports(*railway_, params_.assets, 0);
+    if (tracks.size() > 1 && tracks[1].kind == track::TrackKind::kDouble)
+      supports_[1] = detail::planSupports(*railway_, params_.assets, 1);
+  }
 }
 
 const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kind,

@@ -51,8 +51,13 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
       break;
   }
   std::vector<std::shared_ptr<const scene::Tile>> tiles;
-  for (const auto& index : wanted)
+  for (const auto& index : wanted) {
     tiles.push_back(stream->tile(index));
+    // The window's height maps also as VTK image data (Warp By Scalar shows them in 3D).
+    const terrain::TerrainTile heights = env.terrain().tile(index);
+    scene::writeHeightVti(terrain_dir / fmt::format("tile_{}_{}.vti", index.i, index.j), heights.n,
+                          heights.origin, heights.spacing_m, heights.heights);
+  }
   const Eigen::Vector3d origin = stage.railway->frame(0, from).position;
   scene::writeVtm(tiles, folder / "scene.vtm", origin);
   logInfo(fmt::format("scene: {} terrain tiles, scene.vtm with {} tiles (chainage {:.0f}-{:.0f} m)",

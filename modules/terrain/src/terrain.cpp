@@ -28,6 +28,44 @@ double smoothstep(double e0, double e1, double x) {
 double quintic(double t) {
   return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
 }
+double linear(double t) {
+  return t;
+}
+
+// Values on the nodes of the global square lattice of `step` that cover a box, interpolated
+// bilinearly between the four nodes around a point (the fractions passed through `fade`). The
+// nodes are global (node i at i·step), so every box that covers a point gives it the same value.
+class Lattice {
+ public:
+  template <typename NodeValue>
+  Lattice(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double step, NodeValue value)
+      : step_(step),
+        i0_(static_cast<std::int64_t>(std::floor(lo.x() / step))),
+        j0_(static_cast<std::int64_t>(std::floor(lo.y() / step))),
+        width_(static_cast<std::int64_t>(std::floor(hi.x() / step)) + 2 - i0_) {
+    const std::int64_t rows = static_cast<std::int64_t>(std::floor(hi.y() / step)) + 2 - j0_;
+    values_.resize(static_cast<std::size_t>(width_ * rows));
+    for (std::int64_t j = 0; j < rows; ++j)
+      for (std::int64_t i = 0; i < width_; ++i)
+        values_[static_cast<std::size_t>(j * width_ + i)] = value(i0_ + i, j0_ + j);
+  }
+  double at(double x, double y, double (*fade)(double)) const {
+    const double u = x / step_, v = y / step_;
+    const auto i = static_cast<std::int64_t>(std::floor(u));
+    const auto j = static_cast<std::int64_t>(std::floor(v));
+    const double fx = fade(u - static_cast<double>(i)), fy = fade(v - static_cast<double>(j));
+    const auto base = static_cast<std::size_t>((j - j0_) * width_ + (i - i0_));
+    const auto w = static_cast<std::size_t>(width_);
+    const double bottom = values_[base] + fx * (values_[base + 1] - values_[base]);
+    const double top = values_[base + w] + fx * (values_[base + w + 1] - values_[base + w]);
+    return bottom + fy * (top - bottom);
+  }
+
+ private:
+  double step_;
+  std::int64_t i0_, j0_, width_;
+  std::vector<double> values_;
+};
 
 // Plan distance from p to the segment ab and the parameter of the nearest point.
 double segmentDistance(double px, double py, double ax, double ay, double bx, double by,
@@ -169,16 +207,10 @@ void Terrain::fill(Field& f) const {
     }
     return sw > 0.0 ? swz / sw : best_z;
   };
-  const auto li0 = static_cast<std::int64_t>(std::floor(lo.x() / kRegionalStep_m));
-  const auto lj0 = static_cast<std::int64_t>(std::floor(lo.y() / kRegionalStep_m));
-  const auto li1 = static_cast<std::int64_t>(std::floor(hi.x() / kRegionalStep_m)) + 1;
-  const auto lj1 = static_cast<std::int64_t>(std::floor(hi.y() / kRegionalStep_m)) + 1;
-  const std::int64_t lw = li1 - li0 + 1;
-  std::vector<double> lattice(static_cast<std::size_t>(lw * (lj1 - lj0 + 1)));
-  for (std::int64_t j = lj0; j <= lj1; ++j)
-    for (std::int64_t i = li0; i <= li1; ++i)
-      lattice[static_cast<std::size_t>((j - lj0) * lw + (i - li0))] = lattice_value(
-          static_cast<double>(i) * kRegionalStep_m, static_cast<double>(j) * kRegionalStep_m);
+  const Lattice regional(lo, hi, kRegionalStep_m, [&](std::int64_t i, std::int64_t j) {
+    return lattice_value(static_cast<double>(i) * kRegionalStep_m,
+                         static_cast<double>(j) * kRegionalStep_m);
+  });
 
   // 3. Fractal value noise on global lattices, one per octave; lattice values from the
   // counter-based stream "terrain/noise" keyed by (lattice node, octave).
@@ -191,53 +223,18 @@ void Terrain::fill(Field& f) const {
   for (int o = 0; o < P.octaves; ++o) {
     const double wavelength = P.wavelength_m / std::pow(2.0, o);
     const double amplitude = P.amplitude_m * std::pow(P.persistence, o) / norm;
-    const auto ni0 = static_cast<std::int64_t>(std::floor(lo.x() / wavelength));
-    const auto nj0 = static_cast<std::int64_t>(std::floor(lo.y() / wavelength));
-    const auto ni1 = static_cast<std::int64_t>(std::floor(hi.x() / wavelength)) + 1;
-    const auto nj1 = static_cast<std::int64_t>(std::floor(hi.y() / wavelength)) + 1;
-    const std::int64_t nw = ni1 - ni0 + 1;
-    std::vector<double> node(static_cast<std::size_t>(nw * (nj1 - nj0 + 1)));
-    for (std::int64_t j = nj0; j <= nj1; ++j)
-      for (std::int64_t i = ni0; i <= ni1; ++i) {
-        const std::uint64_t key =
-            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
-            static_cast<std::uint32_t>(j);
-        node[static_cast<std::size_t>((j - nj0) * nw + (i - ni0))] =
-            2.0 * stream.uniform4(key, static_cast<std::uint64_t>(o))[0] - 1.0;
-      }
-    for (int r = 0; r < f.ny; ++r) {
-      const double v = f.y(r) / wavelength;
-      const auto j = static_cast<std::int64_t>(std::floor(v));
-      const double fy = quintic(v - static_cast<double>(j));
-      for (int c = 0; c < f.nx; ++c) {
-        const double u = f.x(c) / wavelength;
-        const auto i = static_cast<std::int64_t>(std::floor(u));
-        const double fx = quintic(u - static_cast<double>(i));
-        const std::size_t base = static_cast<std::size_t>((j - nj0) * nw + (i - ni0));
-        const double n00 = node[base], n10 = node[base + 1];
-        const double n01 = node[base + static_cast<std::size_t>(nw)],
-                     n11 = node[base + static_cast<std::size_t>(nw) + 1];
-        const double bottom = n00 + fx * (n10 - n00), top = n01 + fx * (n11 - n01);
-        f.noise[f.at(c, r)] += amplitude * (bottom + fy * (top - bottom));
-      }
-    }
+    const Lattice nodes(lo, hi, wavelength, [&](std::int64_t i, std::int64_t j) {
+      const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
+                                static_cast<std::uint32_t>(j);
+      return 2.0 * stream.uniform4(key, static_cast<std::uint64_t>(o))[0] - 1.0;
+    });
+    for (int r = 0; r < f.ny; ++r)
+      for (int c = 0; c < f.nx; ++c)
+        f.noise[f.at(c, r)] += amplitude * nodes.at(f.x(c), f.y(r), quintic);
   }
-  for (int r = 0; r < f.ny; ++r) {
-    const double v = f.y(r) / kRegionalStep_m;
-    const auto j = static_cast<std::int64_t>(std::floor(v));
-    const double fy = v - static_cast<double>(j);
-    for (int c = 0; c < f.nx; ++c) {
-      const double u = f.x(c) / kRegionalStep_m;
-      const auto i = static_cast<std::int64_t>(std::floor(u));
-      const double fx = u - static_cast<double>(i);
-      const std::size_t base = static_cast<std::size_t>((j - lj0) * lw + (i - li0));
-      const double l00 = lattice[base], l10 = lattice[base + 1];
-      const double l01 = lattice[base + static_cast<std::size_t>(lw)],
-                   l11 = lattice[base + static_cast<std::size_t>(lw) + 1];
-      const double bottom = l00 + fx * (l10 - l00), top = l01 + fx * (l11 - l01);
-      f.far[f.at(c, r)] = bottom + fy * (top - bottom) + f.noise[f.at(c, r)];
-    }
-  }
+  for (int r = 0; r < f.ny; ++r)
+    for (int c = 0; c < f.nx; ++c)
+      f.far[f.at(c, r)] = regional.at(f.x(c), f.y(r), linear) + f.noise[f.at(c, r)];
 
   // 4. Valleys under bridges: across each bridge's chord, full depth between the abutment ramps
   // (slope 1:1.5) and within valley_width_m of the bridge's middle, fading out to twice that.

@@ -39,14 +39,14 @@ const scenario::Section<terrain::TerrainParams>& terrainSection() {
     Binding<T>& b = s.binding;
     b.number("spacing_m", &T::spacing_m, kM, "Height-map vertex spacing").range(0.25, 10);
     b.integer("tile_vertices", &T::tile_vertices, "", "Vertices per side of a tile")
-        .range(17, 4097);
+        .range(17, 2049);  // 4.2 M heights: about 0.3 GB while a tile is made
     b.number("tile_margin_m", &T::tile_margin_m, kM, "Tiles within this of a track exist")
         .range(50, 5000);
     b.number("d_near_m", &T::d_near_m, kM, "Ground at the track's formation within this")
         .range(1.5, 50);
     b.number("d_near_station_m", &T::d_near_station_m, kM, "The same in stations").range(1.5, 100);
     b.number("d_far_m", &T::d_far_m, kM, "Noise height beyond this (linear blend in between)")
-        .range(2, 500);
+        .range(2, 200);
     b.number("formation_depth_m", &T::formation_depth_m, kM,
              "Top of rail down to the ground under the ballast")
         .range(0.5, 3);

@@ -73,6 +73,15 @@ struct EnvironmentParams {
   ObjectParams objects;
 };
 
+/// A catenary support of the main or double track: its main chainage and the contact wire's
+/// registration (stagger, + left of the track centre), chosen along the whole track so that the
+/// wire stays within ±stagger of the track everywhere and is continuous from span to span.
+struct CatenarySupport {
+  double x_m = 0.0;
+  double stagger_m = 0.0;
+  bool tunnel = false, bridge = false;
+};
+
 /// A placed trackside object, as objects.csv lists it.
 struct PlacedObject {
   std::size_t kind = 0;
@@ -106,6 +115,9 @@ class Environment {
   scene::MaterialId ballastMaterial() const { return ballast_material_; }
   scene::MaterialId groundMaterial() const { return ground_material_; }
   std::uint64_t seed() const { return seed_; }
+  /// The catenary supports of track 0 (main) or 1 (double), in chainage order (empty without a
+  /// catenary): O(route / span) numbers, planned once.
+  const std::vector<CatenarySupport>& supports(int track) const { return supports_.at(track); }
   /// The shared signal (post and head) placed at every signal.
   const std::shared_ptr<const scene::Mesh>& signalPrototype() const { return signal_; }
   /// The shared prototype of an object kind's variant.
@@ -119,6 +131,7 @@ class Environment {
   scene::MaterialId ballast_material_, ground_material_;
   std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
   std::shared_ptr<const scene::Mesh> signal_;
+  std::array<std::vector<CatenarySupport>, 2> supports_;
 };
 
 /// The 60E1 rail cross-section as a closed polygon (a, z) in m: a across the rail (positive
