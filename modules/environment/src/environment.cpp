@@ -48,6 +48,11 @@ const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kin
 
 std::vector<PlacedObject> Environment::objects(scene::TileIndex index) const {
   const terrain::TerrainTile heights = terrain_.tile(index);
+  return objects(index, heights);
+}
+
+std::vector<PlacedObject> Environment::objects(scene::TileIndex index,
+                                               const terrain::TerrainTile& heights) const {
   return detail::placeObjects(*this, index, &heights);
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "trainsim/core/cancel.hpp"
+#include "trainsim/core/error.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/io/file_io.hpp"
@@ -19,7 +20,10 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
   namespace fs = std::filesystem;
   const environment::Environment& env = *stage.environment;
   const fs::path terrain_dir = folder / "terrain";
-  fs::create_directories(terrain_dir);
+  std::error_code ec;
+  fs::create_directories(terrain_dir, ec);
+  if (ec)
+    throw IoError(fmt::format("{}: cannot create it: {}", terrain_dir.string(), ec.message()));
   // Tile by tile, so memory stays that of one tile whatever the route's length.
   io::AtomicFile objects(folder / "objects.csv");
   objects.write("instance,kind,variant,class,x_m,y_m,z_m,radius_m,yaw_rad\n");
@@ -29,7 +33,7 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
     const terrain::TerrainTile tile = env.terrain().tile(index);
     terrain::writeHeightPng(tile, terrain_dir / fmt::format("tile_{}_{}.png", index.i, index.j));
     std::string rows;
-    for (const environment::PlacedObject& o : env.objects(index))
+    for (const environment::PlacedObject& o : env.objects(index, tile))
       rows += fmt::format(
           "{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f}\n", o.instance, kinds[o.kind].name,
           o.variant, scene::semanticClass(env.prototype(o.kind, o.variant)->parts.back().cls).name,

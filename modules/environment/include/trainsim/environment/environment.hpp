@@ -108,6 +108,9 @@ class Environment {
   std::shared_ptr<const scene::Tile> tile(scene::TileIndex index) const;
   /// The trackside objects anchored in a tile (also in tile(), as instances).
   std::vector<PlacedObject> objects(scene::TileIndex index) const;
+  /// The same with the tile's terrain already made (its heights set the objects' feet).
+  std::vector<PlacedObject> objects(scene::TileIndex index,
+                                    const terrain::TerrainTile& heights) const;
   /// A stream of tiles over this environment, holding at most `capacity` tiles.
   std::unique_ptr<scene::SceneStream> stream(std::size_t capacity = 16) const;
 
