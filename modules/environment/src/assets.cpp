@@ -188,29 +188,26 @@ void addTrackAssets(TileContext& ctx) {
       std::vector<Eigen::Vector2d> section;
       for (const auto& p : profile)
         section.emplace_back(side * (centre + p.x()), p.y());
-      auto rail = std::make_shared<scene::Mesh>();
+      // Every run extruded once, then the quads split into two parts, the running head
+      // (near-specular steel) and the web and foot: quad (k, i) of a strip is triangles
+      // 2(k·m + i) and +1, and each strip has a whole number of m-quad rings.
+      scene::Mesh strip;
+      strip.beginPart(scene::cls::kRail, scene::mat::kRailWeb);
+      for (const auto& run : runs)
+        extrude(strip, ctx, run, section, true);
       const auto& head = rail60E1().head;
-      // Head and web as two parts: the running head is near-specular steel.
+      const std::size_t m = section.size();
+      auto rail = std::make_shared<scene::Mesh>();
+      rail->vertices = std::move(strip.vertices);
       for (const bool head_part : {true, false}) {
         rail->beginPart(scene::cls::kRail,
                         head_part ? scene::mat::kRailHead : scene::mat::kRailWeb);
-        for (const auto& run : runs) {
-          scene::Mesh strip;
-          strip.beginPart(scene::cls::kRail, scene::mat::kRailWeb);
-          extrude(strip, ctx, run, section, true);
-          // Keep the quads of this part's edges: quad (k, i) is triangles 2(k·m + i), +1.
-          const std::size_t m = section.size();
-          const auto base = static_cast<std::uint32_t>(rail->vertices.size());
-          rail->vertices.insert(rail->vertices.end(), strip.vertices.begin(), strip.vertices.end());
-          for (std::size_t q = 0; q < strip.triangles.size() / 2; ++q) {
-            if (head[q % m] != head_part)
-              continue;
+        for (std::size_t q = 0; q < strip.triangles.size() / 2; ++q)
+          if (head[q % m] == head_part)
             for (int h = 0; h < 2; ++h) {
               const auto& tri = strip.triangles[2 * q + h];
-              rail->addTriangle(base + tri[0], base + tri[1], base + tri[2]);
+              rail->addTriangle(tri[0], tri[1], tri[2]);
             }
-          }
-        }
       }
       ctx.tile.objects.push_back(scene::Object::place(
           rail, ctx.origin, Eigen::Matrix3f::Identity(),

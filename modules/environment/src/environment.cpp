@@ -57,9 +57,13 @@ std::vector<PlacedObject> Environment::objects(scene::TileIndex index,
 }
 
 std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index) const {
+  return tile(index, terrain_.tile(index));
+}
+
+std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,
+                                                     const terrain::TerrainTile& heights) const {
   auto tile = std::make_shared<scene::Tile>();
   tile->index = index;
-  const terrain::TerrainTile heights = terrain_.tile(index);
   const scene::TileGrid g = grid();
   const Eigen::Vector2d lo = g.corner(index);
   tile->origin = {lo.x(), lo.y(), heights.z0};
@@ -80,7 +84,7 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index) con
   detail::addStructures(ctx);
   detail::addFencesAndSignals(ctx);
   throwIfCancelled();
-  for (const PlacedObject& o : detail::placeObjects(*this, index, &heights)) {
+  for (const PlacedObject& o : objects(index, heights)) {
     const float c = static_cast<float>(std::cos(o.yaw_rad)),
                 s = static_cast<float>(std::sin(o.yaw_rad));
     Eigen::Matrix3f linear;

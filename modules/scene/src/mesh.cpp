@@ -38,29 +38,6 @@ void Mesh::addQuad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint3
   addTriangle(a, c, d);
 }
 
-void Mesh::append(const Mesh& other, const Eigen::Vector3f& offset) {
-  const auto base = static_cast<std::uint32_t>(vertices.size());
-  for (const auto& v : other.vertices)
-    vertices.push_back(v + offset);
-  for (const auto& part : other.parts) {
-    beginPart(part.cls, part.material);
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
-         ++t) {
-      const auto& tri = other.triangles[t];
-      addTriangle(base + tri[0], base + tri[1], base + tri[2]);
-    }
-  }
-}
-
-const MeshPart& Mesh::partOf(std::uint32_t triangle) const {
-  const auto it =
-      std::upper_bound(parts.begin(), parts.end(), triangle,
-                       [](std::uint32_t t, const MeshPart& p) { return t < p.first_triangle; });
-  if (it == parts.begin())
-    throw RuntimeError("Mesh::partOf: triangle before the first part");
-  return *std::prev(it);
-}
-
 std::size_t Mesh::bytes() const {
   return vertices.capacity() * sizeof(Eigen::Vector3f) +
          triangles.capacity() * sizeof(triangles[0]) + parts.capacity() * sizeof(MeshPart);

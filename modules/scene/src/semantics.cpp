@@ -112,12 +112,6 @@ const Material& material(MaterialId id) {
     throw RuntimeError(fmt::format("unknown material id {}", id));
   return materialTable()[id];
 }
-std::string_view classesJson() {
-  return embedded::classes_json;
-}
-std::string_view materialsJson() {
-  return embedded::materials_json;
-}
 
 InstanceId trackAssetInstance(int track_id, int kind, std::int64_t index) {
   return (InstanceId{static_cast<std::uint8_t>(InstanceSource::kTrackAsset)} << 56) |

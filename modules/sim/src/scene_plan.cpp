@@ -24,44 +24,48 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
   fs::create_directories(terrain_dir, ec);
   if (ec)
     throw IoError(fmt::format("{}: cannot create it: {}", terrain_dir.string(), ec.message()));
-  // Tile by tile, so memory stays that of one tile whatever the route's length.
+  // The window: tiles within 150 m of the main track between the two chainages.
+  const auto& main = stage.railway->main();
+  const double from = std::clamp(window.from_m, 0.0, main.length());
+  const double to = std::clamp(window.to_m, from, main.length());
+  const scene::TileGrid grid = env.grid();
+  std::set<scene::TileIndex> wanted;
+  for (double x = from;; x = std::min(to, x + 50.0)) {
+    const Eigen::Vector2d p = stage.railway->frame(0, x).position.head<2>();
+    const scene::TileIndex lo = grid.tileAt(p.x() - 150.0, p.y() - 150.0);
+    const scene::TileIndex hi = grid.tileAt(p.x() + 150.0, p.y() + 150.0);
+    for (std::int32_t i = lo.i; i <= hi.i; ++i)
+      for (std::int32_t j = lo.j; j <= hi.j; ++j)
+        if (env.tiles().contains({i, j}) && grid.distance({i, j}, p) <= 150.0)
+          wanted.insert({i, j});
+    if (x >= to)
+      break;
+  }
+  // Tile by tile, each tile's heights made once; memory is one tile's beyond the window's.
   io::AtomicFile objects(folder / "objects.csv");
   objects.write("instance,kind,variant,class,x_m,y_m,z_m,radius_m,yaw_rad\n");
   const auto kinds = environment::objectKinds();
+  std::vector<std::shared_ptr<const scene::Tile>> tiles;
   for (const scene::TileIndex& index : env.tiles()) {
     throwIfCancelled();
-    const terrain::TerrainTile tile = env.terrain().tile(index);
-    terrain::writeHeightPng(tile, terrain_dir / fmt::format("tile_{}_{}.png", index.i, index.j));
+    const terrain::TerrainTile heights = env.terrain().tile(index);
+    const std::string stem = fmt::format("tile_{}_{}", index.i, index.j);
+    terrain::writeHeightPng(heights, terrain_dir / (stem + ".png"));
     std::string rows;
-    for (const environment::PlacedObject& o : env.objects(index, tile))
+    for (const environment::PlacedObject& o : env.objects(index, heights))
       rows += fmt::format(
           "{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f}\n", o.instance, kinds[o.kind].name,
           o.variant, scene::semanticClass(env.prototype(o.kind, o.variant)->parts.back().cls).name,
           o.position.x(), o.position.y(), o.position.z(), o.radius_m, o.yaw_rad);
     objects.write(rows);
+    if (wanted.contains(index)) {
+      // The window's height maps also as VTK image data (Warp By Scalar shows them in 3D).
+      scene::writeHeightVti(terrain_dir / (stem + ".vti"), heights.n, heights.origin,
+                            heights.spacing_m, heights.heights);
+      tiles.push_back(env.tile(index, heights));
+    }
   }
   objects.commit();
-  // The window: tiles within 150 m of the main track between the two chainages.
-  const auto& main = stage.railway->main();
-  const double from = std::clamp(window.from_m, 0.0, main.length());
-  const double to = std::clamp(window.to_m, from, main.length());
-  auto stream = env.stream(64);
-  std::set<scene::TileIndex> wanted;
-  for (double x = from;; x = std::min(to, x + 50.0)) {
-    const Eigen::Vector3d p = stage.railway->frame(0, x).position;
-    for (const auto& t : stream->window(p, 150.0).tiles)
-      wanted.insert(t->index);
-    if (x >= to)
-      break;
-  }
-  std::vector<std::shared_ptr<const scene::Tile>> tiles;
-  for (const auto& index : wanted) {
-    tiles.push_back(stream->tile(index));
-    // The window's height maps also as VTK image data (Warp By Scalar shows them in 3D).
-    const terrain::TerrainTile heights = env.terrain().tile(index);
-    scene::writeHeightVti(terrain_dir / fmt::format("tile_{}_{}.vti", index.i, index.j), heights.n,
-                          heights.origin, heights.spacing_m, heights.heights);
-  }
   const Eigen::Vector3d origin = stage.railway->frame(0, from).position;
   scene::writeVtm(tiles, folder / "scene.vtm", origin);
   logInfo(fmt::format("scene: {} terrain tiles, scene.vtm with {} tiles (chainage {:.0f}-{:.0f} m)",

@@ -1,5 +1,7 @@
 #include "trainsim/terrain/railway.hpp"
 
+#include "plan_distance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,26 +12,19 @@ namespace trainsim::terrain {
 
 Railway::Railway(const track::Route& route, const track::Layout& layout,
                  const Eigen::Vector3d& shift)
-    : route_(route),
-      main_(route.track),
-      layout_(layout),
-      shift_(shift),
-      lo_(Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity())),
-      hi_(Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity())) {
+    : route_(route), main_(route.track), layout_(layout), shift_(shift) {
   for (const auto& t : layout.tracks) {
     for (const auto& run : t.runs) {
       throwIfCancelled();
       const track::Polyline line = track::samplePolyline(main_, t, run.x0, run.x1);
-      RunBox box{t.id, run.x0, run.x1, lo_, hi_};
-      box.lo.setConstant(std::numeric_limits<double>::infinity());
-      box.hi.setConstant(-std::numeric_limits<double>::infinity());
+      RunBox box{t.id, run.x0, run.x1,
+                 Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
+                 Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity())};
       for (const auto& p : line.points) {
         const Eigen::Vector2d q = (p + shift_).head<2>();
         box.lo = box.lo.cwiseMin(q);
         box.hi = box.hi.cwiseMax(q);
       }
-      lo_ = lo_.cwiseMin(box.lo);
-      hi_ = hi_.cwiseMax(box.hi);
       boxes_.push_back(box);
     }
   }
@@ -112,13 +107,10 @@ double TrackDistance::operator()(double x, double y) const {
   double best = std::numeric_limits<double>::infinity();
   if (c < 0 || r < 0 || c >= nx_ || r >= ny_)
     return best;
-  const Eigen::Vector2d p(x, y);
   for (const std::uint32_t id : cells_[static_cast<std::size_t>(r) * nx_ + c]) {
     const Segment& s = segments_[id];
-    const Eigen::Vector2d u = s.b - s.a;
-    const double len2 = u.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - s.a).dot(u) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - (s.a + t * u)).norm());
+    double t = 0.0;
+    best = std::min(best, detail::segmentDistance(x, y, s.a.x(), s.a.y(), s.b.x(), s.b.y(), t));
   }
   return best <= reach_ ? best : std::numeric_limits<double>::infinity();
 }

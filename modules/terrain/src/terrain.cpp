@@ -1,5 +1,7 @@
 #include "trainsim/terrain/terrain.hpp"
 
+#include "plan_distance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -66,16 +68,6 @@ class Lattice {
   std::int64_t i0_, j0_, width_;
   std::vector<double> values_;
 };
-
-// Plan distance from p to the segment ab and the parameter of the nearest point.
-double segmentDistance(double px, double py, double ax, double ay, double bx, double by,
-                       double& t) {
-  const double ux = bx - ax, uy = by - ay;
-  const double len2 = ux * ux + uy * uy;
-  t = len2 > 0.0 ? std::clamp(((px - ax) * ux + (py - ay) * uy) / len2, 0.0, 1.0) : 0.0;
-  const double dx = px - (ax + t * ux), dy = py - (ay + t * uy);
-  return std::sqrt(dx * dx + dy * dy);
-}
 
 }  // namespace
 
@@ -154,7 +146,7 @@ void Terrain::fill(Field& f) const {
       for (int rr = r0; rr <= r1; ++rr)
         for (int cc = c0; cc <= c1; ++cc) {
           double t = 0.0;
-          const double d = segmentDistance(f.x(cc), f.y(rr), a.x(), a.y(), b.x(), b.y(), t);
+          const double d = detail::segmentDistance(f.x(cc), f.y(rr), a.x(), a.y(), b.x(), b.y(), t);
           if (d > r)
             continue;
           const std::size_t i = f.at(cc, rr);
@@ -321,12 +313,6 @@ double Terrain::heightAt(double x, double y, HeightParts* parts) const {
               f.z_tunnel[0], f.far[0],    f.noise[0],        f.valley[0]};
   }
   return f.height[0];
-}
-
-double Terrain::noise(double x, double y) const {
-  HeightParts parts;
-  heightAt(x, y, &parts);
-  return parts.noise;
 }
 
 scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,

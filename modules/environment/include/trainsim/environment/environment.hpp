@@ -106,6 +106,9 @@ class Environment {
 
   /// Everything in one tile.
   std::shared_ptr<const scene::Tile> tile(scene::TileIndex index) const;
+  /// The same with the tile's terrain already made.
+  std::shared_ptr<const scene::Tile> tile(scene::TileIndex index,
+                                          const terrain::TerrainTile& heights) const;
   /// The trackside objects anchored in a tile (also in tile(), as instances).
   std::vector<PlacedObject> objects(scene::TileIndex index) const;
   /// The same with the tile's terrain already made (its heights set the objects' feet).

@@ -56,11 +56,6 @@ struct Mesh {
   void addTriangle(std::uint32_t a, std::uint32_t b, std::uint32_t c);
   /// Two triangles a b c, a c d.
   void addQuad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d);
-  /// Appends `other`'s vertices moved by `offset` and its triangles and parts.
-  void append(const Mesh& other, const Eigen::Vector3f& offset = Eigen::Vector3f::Zero());
-  /// The part a triangle belongs to.
-  const MeshPart& partOf(std::uint32_t triangle) const;
-  bool emptyMesh() const { return triangles.empty(); }
   std::size_t bytes() const;
 };
 

@@ -99,7 +99,6 @@ class SceneStream {
   std::shared_ptr<const Tile> tile(TileIndex index);
 
   const TileGrid& grid() const { return grid_; }
-  const std::set<TileIndex>& existing() const { return existing_; }
   /// Tiles held now, tiles made so far (a dropped tile asked for again is made again).
   std::size_t cached() const;
   std::int64_t made() const;

@@ -54,9 +54,6 @@ ClassId classId(std::string_view name);
 MaterialId materialId(std::string_view name);
 const SemanticClass& semanticClass(ClassId id);
 const Material& material(MaterialId id);
-/// The embedded JSON text of the tables (for dataset files and the docs).
-std::string_view classesJson();
-std::string_view materialsJson();
 
 /// The class ids the generators use, by name; `SemanticTable.NamedIdsMatchTheTable` checks
 /// every one against resources/classes.json.

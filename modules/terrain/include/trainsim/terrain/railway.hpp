@@ -47,12 +47,8 @@ class Railway {
   const track::Route& route() const { return route_; }
   const track::Track& main() const { return route_.track; }
   const track::Layout& layout() const { return layout_; }
-  const Eigen::Vector3d& shift() const { return shift_; }
   /// Bridges, tunnels and stations of the main track, in chainage order.
   const std::vector<Structure>& structures() const { return structures_; }
-  /// Plan box of all tracks.
-  Eigen::Vector2d boundsMin() const { return lo_; }
-  Eigen::Vector2d boundsMax() const { return hi_; }
   /// Every run's plan box (for deciding which tiles exist).
   struct RunBox {
     int track = 0;
@@ -68,7 +64,6 @@ class Railway {
   Eigen::Vector3d shift_;
   std::vector<RunBox> boxes_;
   std::vector<Structure> structures_;
-  Eigen::Vector2d lo_, hi_;
 };
 
 /// Plan distance to the nearest track centreline over a box: the segments of every track near

@@ -95,8 +95,6 @@ class Terrain {
   /// The height at one world point, by the same rules as tile() (not from a tile: it builds a
   /// small index around the point), and what decided it.
   double heightAt(double x, double y, HeightParts* parts = nullptr) const;
-  /// The noise height alone (regional level excluded).
-  double noise(double x, double y) const;
 
   const Railway& railway() const { return *railway_; }
 

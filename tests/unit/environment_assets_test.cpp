@@ -1,0 +1,244 @@
+// Track assets and trackside objects over a whole generated route: the rail gauge and cant
+// measured on the meshes, the catenary against the track frames, clearance of masts, signals
+// and fences, object footprints checked pairwise and against every track, placement order.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "unit/environment_world.hpp"
+
+namespace trainsim {
+namespace {
+
+using scenario::Json;
+
+TEST(Assets, RailsSitAtGaugeAndFollowTheCant) {
+  const World& w = defaultWorld();
+  const auto& profile = environment::rail60E1().points;
+  const std::size_t m = profile.size();
+  // The inner corner of the head at 14 mm below the top, before inclination: index of (−36, −14).
+  std::size_t corner = m;
+  for (std::size_t i = 0; i < m; ++i)
+    if (std::abs(profile[i].x() + 0.036) < 1e-9 && std::abs(profile[i].y() + 0.014) < 1e-9)
+      corner = i;
+  ASSERT_LT(corner, m);
+  const track::Polyline main =
+      track::samplePolyline(w.railway().main(), w.railway().layout().tracks[0]);
+  int checked = 0, canted = 0;
+  for (const auto& tile : allTiles()) {
+    const scene::Object* left = nullptr;
+    const scene::Object* right = nullptr;
+    for (const auto& o : tile->objects) {
+      if (o.instance == scene::trackAssetInstance(0, 1, 0))
+        left = &o;
+      if (o.instance == scene::trackAssetInstance(0, 2, 0))
+        right = &o;
+    }
+    if (!left || !right)
+      continue;
+    // Both meshes hold the same rings (one per polyline point) in the same order.
+    ASSERT_EQ(left->mesh->vertices.size(), right->mesh->vertices.size());
+    for (std::size_t ring = 0; ring * m < left->mesh->vertices.size(); ring += 7) {
+      const Eigen::Vector3d a = left->worldVertex(static_cast<std::uint32_t>(ring * m + corner));
+      const Eigen::Vector3d b = right->worldVertex(static_cast<std::uint32_t>(ring * m + corner));
+      // The inclination moves the corner by (1 − cos β)·36 mm and lifts it < 1 mm: the gauge
+      // between the two corners is 1435 mm within 0.5 mm.
+      EXPECT_NEAR((a - b).norm(), 1.435, 5e-4);
+      // Cant: the line between the rails is tilted by the track's roll at that point.
+      const Eigen::Vector3d mid = 0.5 * (a + b);
+      std::size_t best = 0;
+      for (std::size_t k = 0; k < main.points.size(); ++k)
+        if ((main.points[k] - mid).head<2>().squaredNorm() <
+            (main.points[best] - mid).head<2>().squaredNorm())
+          best = k;
+      const track::TrackFrame f = w.railway().frame(0, main.main_chainage_m[best]);
+      const double tilt = std::asin((a.z() - b.z()) / (a - b).norm());
+      EXPECT_NEAR(tilt, f.roll_rad, 2e-3) << "at chainage " << main.main_chainage_m[best];
+      if (std::abs(f.roll_rad) > 0.02)
+        ++canted;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+  EXPECT_GT(canted, 10);
+  EXPECT_NEAR(environment::gaugeFaceOffset(1.0 / 40.0), 0.036, 1e-3);
+}
+
+TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
+  const World& w = defaultWorld();
+  const environment::AssetParams& A = w.env().params().assets;
+  std::vector<track::Polyline> lines;
+  for (int t = 0; t < 2; ++t)
+    lines.push_back(track::samplePolyline(w.railway().main(), w.railway().layout().tracks[t]));
+  int spans = 0;
+  for (const auto& tile : allTiles())
+    for (const auto& wire : tile->wires) {
+      if (((wire.instance >> 36) & 0xFF) != 4)
+        continue;  // contact wires
+      ++spans;
+      const int track_id = static_cast<int>((wire.instance >> 44) & 0xFFF);
+      for (int s = 0; s <= 8; ++s) {
+        const Eigen::Vector3d p =
+            tile->origin +
+            (wire.points.front() + (wire.points.back() - wire.points.front()) * (s / 8.0f))
+                .cast<double>();
+        const auto& line = lines[track_id];
+        std::size_t best = 0;
+        for (std::size_t k = 0; k < line.points.size(); ++k)
+          if ((line.points[k] - p).head<2>().squaredNorm() <
+              (line.points[best] - p).head<2>().squaredNorm())
+            best = k;
+        // The frame at the foot of the perpendicular, by bisection on the chainage.
+        double lo = line.main_chainage_m[best > 0 ? best - 1 : 0];
+        double hi = line.main_chainage_m[std::min(best + 1, line.points.size() - 1)];
+        for (int it = 0; it < 60; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          const track::TrackFrame f = w.railway().frame(track_id, mid);
+          ((p - f.position).dot(f.tangent) > 0 ? lo : hi) = mid;
+        }
+        const track::TrackFrame f = w.railway().frame(track_id, 0.5 * (lo + hi));
+        const Eigen::Vector3d r = p - f.position;
+        EXPECT_LE(std::abs(r.dot(f.left)), A.stagger_m + 0.01)
+            << "track " << track_id << " span " << (wire.instance & 0xFFFFFFFFFull) << " at " << s
+            << "/8, chainage " << 0.5 * (lo + hi);
+        EXPECT_NEAR(r.dot(f.up), A.contact_height_m, 0.05);
+      }
+    }
+  EXPECT_GT(spans, 150);
+  // Continuous from span to span over the whole route, tile borders included: each span starts
+  // where the one before it ends.
+  std::map<std::pair<int, std::int64_t>, std::pair<Eigen::Vector3d, Eigen::Vector3d>> ends;
+  for (const auto& tile : allTiles())
+    for (const auto& wire : tile->wires)
+      if (((wire.instance >> 36) & 0xFF) == 4)
+        ends[{static_cast<int>((wire.instance >> 44) & 0xFFF),
+              static_cast<std::int64_t>(wire.instance & 0xFFFFFFFFFull)}] = {
+            tile->origin + wire.points.front().cast<double>(),
+            tile->origin + wire.points.back().cast<double>()};
+  int joints = 0;
+  for (auto it = ends.begin(); std::next(it) != ends.end(); ++it) {
+    const auto next = std::next(it);
+    if (next->first.first != it->first.first || next->first.second != it->first.second + 1)
+      continue;
+    EXPECT_LT((it->second.second - next->second.first).norm(), 1e-3);
+    ++joints;
+  }
+  EXPECT_GT(joints, 150);
+}
+
+TEST(Objects, FootprintsNeverOverlapAndKeepClearOfEveryTrack) {
+  const World& w = defaultWorld();
+  const auto segments = allSegments(w);
+  const auto kinds = environment::objectKinds();
+  std::vector<environment::PlacedObject> all;
+  for (const auto& i : w.env().tiles()) {
+    const auto objects = w.env().objects(i);
+    all.insert(all.end(), objects.begin(), objects.end());
+  }
+  ASSERT_GT(all.size(), 500u);
+  std::map<std::pair<long, long>, std::vector<std::size_t>> grid;
+  for (std::size_t k = 0; k < all.size(); ++k)
+    grid[{std::lround(std::floor(all[k].position.x() / 20.0)),
+          std::lround(std::floor(all[k].position.y() / 20.0))}]
+        .push_back(k);
+  std::set<scene::InstanceId> instances;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const auto& o = all[k];
+    EXPECT_TRUE(instances.insert(o.instance).second);
+    const long gx = std::lround(std::floor(o.position.x() / 20.0)),
+               gy = std::lround(std::floor(o.position.y() / 20.0));
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto it = grid.find({gx + dx, gy + dy});
+        if (it == grid.end())
+          continue;
+        for (const std::size_t j : it->second) {
+          if (j == k)
+            continue;
+          ASSERT_GE((all[j].position - o.position).head<2>().norm(), all[j].radius_m + o.radius_m)
+              << "objects " << k << " and " << j << " overlap";
+        }
+      }
+    // Clear of every track (brute force over all segments, tunnels included), which keeps it
+    // off the track bed, platforms, bridge decks, masts and fences (all within 6 m).
+    const Nearest open = nearest(segments, o.position.head<2>(), false);
+    const Nearest tube = nearest(segments, o.position.head<2>(), true);
+    EXPECT_GE(std::min(open.d, tube.d) - o.radius_m,
+              w.env().params().objects.kinds[o.kind].min_track_distance_m - 1e-9);
+    const auto& A = w.env().params().assets;
+    EXPECT_GE(std::min(open.d, tube.d) - o.radius_m, A.platform_edge_m + A.platform_width_m)
+        << kinds[o.kind].name;
+    EXPECT_GE(std::min(open.d, tube.d) - o.radius_m, A.fence_offset_m) << kinds[o.kind].name;
+  }
+}
+
+TEST(Objects, PlacementDoesNotDependOnWhichTilesWereMadeFirst) {
+  // A tile's objects are decided from candidates around it only: the same tile from a second
+  // environment (nothing made before it) and after all others gives the same list.
+  const World& w = defaultWorld();
+  const World fresh = makeWorld();
+  const scene::TileIndex t =
+      *std::next(w.env().tiles().begin(), static_cast<long>(w.env().tiles().size() / 2));
+  const auto a = w.env().objects(t);
+  const auto b = fresh.env().objects(t);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].instance, b[k].instance);
+    EXPECT_EQ(a[k].position, b[k].position);
+  }
+}
+
+TEST(Assets, MastsSignalsAndFencesStayOutOfEveryTracksClearanceGauge) {
+  // Below the top of the kinematic gauge (4.35 m above the rails, UIC GB), nothing of a mast,
+  // signal or fence comes closer than 2.2 m (plan) to any track centre: the gauge's half-width
+  // of about 1.7 m and a margin. The cantilevers reach over the track above it.
+  const World& w = defaultWorld();
+  const auto segments = allSegments(w);
+  std::map<std::pair<long, long>, std::vector<const Segment*>> grid;
+  for (const auto& s : segments) {
+    const Eigen::Vector2d m = 0.5 * (s.a + s.b).head<2>();
+    grid[{std::lround(std::floor(m.x() / 20.0)), std::lround(std::floor(m.y() / 20.0))}].push_back(
+        &s);
+  }
+  std::size_t checked = 0;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      if (scene::instanceSource(o.instance) != scene::InstanceSource::kTrackAsset)
+        continue;
+      const int kind = static_cast<int>((o.instance >> 36) & 0xFF);
+      if (kind != 3 && kind != 11 && kind != 12)
+        continue;  // masts, fences, signals
+      for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+        const Eigen::Vector3d p = o.worldVertex(v);
+        double best = std::numeric_limits<double>::infinity(), z = 0.0;
+        const long gx = std::lround(std::floor(p.x() / 20.0)),
+                   gy = std::lround(std::floor(p.y() / 20.0));
+        for (long dx = -1; dx <= 1; ++dx)
+          for (long dy = -1; dy <= 1; ++dy) {
+            const auto it = grid.find({gx + dx, gy + dy});
+            if (it == grid.end())
+              continue;
+            for (const Segment* s : it->second) {
+              const Eigen::Vector2d u = (s->b - s->a).head<2>();
+              const double t =
+                  std::clamp((p.head<2>() - s->a.head<2>()).dot(u) / u.squaredNorm(), 0.0, 1.0);
+              const double d = (p.head<2>() - s->a.head<2>() - t * u).norm();
+              if (d < best) {
+                best = d;
+                z = s->a.z() + t * (s->b.z() - s->a.z());
+              }
+            }
+          }
+        if (p.z() > z + 4.35)
+          continue;
+        ++checked;
+        ASSERT_GE(best, 2.2) << "asset kind " << kind << " at " << p.transpose();
+      }
+    }
+  EXPECT_GT(checked, 10000u);
+}
+
+}  // namespace
+}  // namespace trainsim

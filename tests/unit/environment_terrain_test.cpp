@@ -1,0 +1,243 @@
+// The terrain against independent references: its rules recomputed by brute force over every
+// track segment, the noise from the random stream, the regional level by hand; determinism
+// across tile orders and threads; the PNG read back; the simplified mesh checked point by point.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include "trainsim/core/random.hpp"
+#include "trainsim/io/file_io.hpp"
+#include "trainsim/io/png.hpp"
+
+#include "unit/environment_world.hpp"
+
+namespace trainsim {
+namespace {
+
+using scenario::Json;
+
+// Value noise as the terrain's docs define it, written again from the random stream.
+double referenceNoise(const terrain::TerrainParams& P, std::uint64_t seed, double x, double y) {
+  const RandomStream stream(seed, "terrain/noise");
+  double norm = 0.0, sum = 0.0;
+  for (int o = 0; o < P.octaves; ++o)
+    norm += std::pow(P.persistence, o);
+  for (int o = 0; o < P.octaves; ++o) {
+    const double wl = P.wavelength_m / std::pow(2.0, o);
+    const double u = x / wl, v = y / wl;
+    const double i = std::floor(u), j = std::floor(v);
+    const auto node = [&](double a, double b) {
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(static_cast<std::uint32_t>(static_cast<std::int64_t>(a)))
+           << 32) |
+          static_cast<std::uint32_t>(static_cast<std::int64_t>(b));
+      return 2.0 * stream.uniform4(key, static_cast<std::uint64_t>(o))[0] - 1.0;
+    };
+    const auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+    const double fx = fade(u - i), fy = fade(v - j);
+    const double bottom = node(i, j) + fx * (node(i + 1, j) - node(i, j));
+    const double top = node(i, j + 1) + fx * (node(i + 1, j + 1) - node(i, j + 1));
+    sum += P.amplitude_m * std::pow(P.persistence, o) / norm * (bottom + fy * (top - bottom));
+  }
+  return sum;
+}
+
+TEST(Terrain, HeightsFollowTheBlendAgainstABruteForceReference) {
+  const World& w = defaultWorld();
+  const auto segments = allSegments(w);
+  const terrain::TerrainParams& P = w.env().params().terrain;
+  const RandomStream pick(7, "test.terrain.points");
+  int near = 0, blend = 0, far = 0;
+  for (std::uint64_t k = 0; k < 1500; ++k) {
+    // Points along the route, up to 60 m to either side, away from bridges and tunnels.
+    const auto u = pick.uniform4(k);
+    const double x = u[0] * w.railway().main().length();
+    const track::TrackFrame f = w.railway().frame(0, x);
+    const Eigen::Vector2d p =
+        f.position.head<2>() + (120.0 * u[1] - 60.0) * f.left.head<2>().normalized();
+    terrain::HeightParts parts;
+    const double h = w.env().terrain().heightAt(p.x(), p.y(), &parts);
+    if (parts.valley != 0.0 || std::isfinite(parts.d_tunnel))
+      continue;
+    const Nearest n = nearest(segments, p, false);
+    const double reach = std::max(P.d_far_m, P.d_near_station_m);
+    if (n.d <= reach) {
+      ASSERT_NEAR(parts.d_open, n.d, 1e-9);
+      ASSERT_NEAR(parts.z_open, n.z, 1e-9);
+    }
+    EXPECT_NEAR(parts.noise, referenceNoise(P, w.scenario.seed(), p.x(), p.y()), 1e-9);
+    const double d_near =
+        n.type == track::LayoutBlockType::kStation ? P.d_near_station_m : P.d_near_m;
+    const double formation = n.z - P.formation_depth_m;
+    if (n.d <= d_near) {
+      ++near;
+      EXPECT_NEAR(h, formation, 1e-9);
+    } else if (n.d >= P.d_far_m) {
+      ++far;
+      EXPECT_NEAR(h, parts.far, 1e-9);
+    } else {
+      ++blend;
+      const double wgt = (n.d - d_near) / (P.d_far_m - d_near);
+      EXPECT_NEAR(h, (1 - wgt) * formation + wgt * parts.far, 1e-9);
+    }
+  }
+  EXPECT_GT(near, 50);
+  EXPECT_GT(blend, 300);
+  EXPECT_GT(far, 300);
+}
+
+TEST(Terrain, TheRegionalLevelIsTheWeightedTrackFormation) {
+  // Far from the track, height − noise is the inverse-distance weighted formation height of
+  // track points every 25 m, bilinear between 25 m lattice nodes: checked at a lattice node.
+  const World& w = defaultWorld();
+  const terrain::TerrainParams& P = w.env().params().terrain;
+  const track::TrackFrame f = w.railway().frame(0, 2400.0);
+  const Eigen::Vector2d q = (f.position.head<2>() + 200.0 * f.left.head<2>().normalized()) / 25.0;
+  const Eigen::Vector2d node(std::round(q.x()) * 25.0, std::round(q.y()) * 25.0);
+  terrain::HeightParts parts;
+  w.env().terrain().heightAt(node.x(), node.y(), &parts);
+  double sw = 0.0, swz = 0.0;
+  for (const auto& t : w.railway().layout().tracks)
+    for (double k = std::ceil(t.main_chainage_begin_m / 25.0); k * 25.0 < t.main_chainage_end_m;
+         k += 1.0) {
+      const Eigen::Vector3d p = w.railway().frame(t.id, k * 25.0).position;
+      const double d2 = (p.head<2>() - node).squaredNorm();
+      if (d2 >= P.regional_radius_m * P.regional_radius_m)
+        continue;
+      const double fall = 1.0 - d2 / (P.regional_radius_m * P.regional_radius_m);
+      const double wt = fall * fall / (d2 + 625.0);
+      sw += wt;
+      swz += wt * (p.z() - P.formation_depth_m);
+    }
+  EXPECT_NEAR(parts.far - parts.noise, swz / sw, 1e-6);
+}
+
+TEST(Terrain, ValleysUnderBridgesAndGroundOverTunnels) {
+  const World& w = defaultWorld();
+  const terrain::TerrainParams& P = w.env().params().terrain;
+  int bridges = 0, tunnels = 0;
+  for (const terrain::Structure& s : w.railway().structures()) {
+    const double inset =
+        s.type == track::BlockType::kBridge ? 0.25 * (s.chainage_end_m - s.chainage_begin_m) : 40.0;
+    for (double x = s.chainage_begin_m + inset; x <= s.chainage_end_m - inset; x += 10.0)
+      for (const double lateral : {-6.0, -2.0, 0.0, 2.0, 6.0}) {
+        const track::TrackFrame f = w.railway().frame(0, x);
+        const Eigen::Vector2d p = f.position.head<2>() + lateral * f.left.head<2>().normalized();
+        const double h = w.env().terrain().heightAt(p.x(), p.y());
+        if (s.type == track::BlockType::kBridge) {
+          ++bridges;  // room for a river: the ground well below the deck (1.5 m under the
+                      // formation)
+          EXPECT_LT(h, f.position.z() - P.formation_depth_m - 1.5 - 3.0) << "bridge at " << x;
+        } else if (s.type == track::BlockType::kTunnel) {
+          ++tunnels;  // the tube (crown tunnel_crown_m above the rails) runs underground
+          EXPECT_GE(h, f.position.z() + P.tunnel_crown_m + 0.5 * P.tunnel_cover_m)
+              << "tunnel at " << x;
+        }
+      }
+  }
+  EXPECT_GT(bridges, 10);
+  EXPECT_GT(tunnels, 100);
+}
+
+TEST(Terrain, ATileIsTheSameAloneInAnyOrderOnAnyThreadAndAgreesWithItsNeighbours) {
+  const World& w = defaultWorld();
+  const auto& tiles = w.env().tiles();
+  ASSERT_GE(tiles.size(), 4u);
+  const scene::TileIndex first = *tiles.begin(), last = *tiles.rbegin();
+  const terrain::TerrainTile alone = w.env().terrain().tile(last);
+  std::vector<terrain::TerrainTile> in_order;
+  for (const auto& t : tiles)
+    in_order.push_back(w.env().terrain().tile(t));
+  terrain::TerrainTile threaded;
+  std::thread([&] { threaded = w.env().terrain().tile(last); }).join();
+  for (const auto* other : {&in_order.back(), &threaded}) {
+    ASSERT_EQ(other->heights.size(), alone.heights.size());
+    EXPECT_EQ(std::memcmp(other->heights.data(), alone.heights.data(),
+                          alone.heights.size() * sizeof(double)),
+              0);
+    EXPECT_EQ(other->z0, alone.z0);
+  }
+  // Shared borders: a tile's east column is its east neighbour's west column.
+  int shared = 0;
+  for (const auto& t : in_order)
+    for (const auto& u : in_order)
+      if (u.index.i == t.index.i + 1 && u.index.j == t.index.j) {
+        ++shared;
+        for (int r = 0; r < t.n; ++r)
+          ASSERT_EQ(t.height(t.n - 1, r), u.height(0, r));
+        ASSERT_EQ(t.vertex(t.n - 1, 0), u.vertex(0, 0));
+      }
+  EXPECT_GT(shared, 0);
+  (void)first;
+}
+
+TEST(Terrain, HeightPngRoundTrips) {
+  const World& w = defaultWorld();
+  const terrain::TerrainTile t = w.env().terrain().tile(*w.env().tiles().begin());
+  const auto dir = std::filesystem::temp_directory_path() / "trainsim_height_png";
+  std::filesystem::create_directories(dir);
+  terrain::writeHeightPng(t, dir / "tile.png");
+  const io::PngImage png = io::decodePng(io::readFile(dir / "tile.png"));
+  const auto meta = Json::parse(io::readFile(dir / "tile.json"));
+  ASSERT_EQ(png.depth, 16);
+  ASSERT_EQ(png.width, t.n);
+  const double scale = meta["scale_m"].get<double>(), z0 = meta["z0_m"].get<double>();
+  for (int r = 0; r < t.n; r += 17)
+    for (int c = 0; c < t.n; c += 13)
+      EXPECT_NEAR(z0 + scale * png.samples16[static_cast<std::size_t>(t.n - 1 - r) * t.n + c],
+                  t.height(c, r), 0.5 * scale + 1e-6);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
+  // Brute force: every grid point is located in the simplified mesh by scanning all its
+  // triangles, and its height compared with the triangle's plane.
+  const World w = makeWorld({{"terrain", {{"tile_vertices", 65}}}});
+  int tiles = 0;
+  for (const auto& index : w.env().tiles()) {
+    if (++tiles > 6)
+      break;
+    const terrain::TerrainTile t = w.env().terrain().tile(index);
+    const Eigen::Vector3d origin(t.origin.x(), t.origin.y(), t.z0);
+    for (const double tol : {0.02, 0.25}) {
+      const terrain::SimplifiedMesh s =
+          terrain::simplifiedTerrainMesh(t, origin, scene::mat::kGrass, tol);
+      EXPECT_LE(s.max_error_m, tol);
+      EXPECT_LT(s.mesh.triangles.size(), 2u * 64 * 64);
+      double worst = 0.0;
+      for (int r = 0; r < t.n; ++r)
+        for (int c = 0; c < t.n; ++c) {
+          const Eigen::Vector2d p(c * t.spacing_m, r * t.spacing_m);
+          bool found = false;
+          for (const auto& tri : s.mesh.triangles) {
+            Eigen::Vector3d v[3];
+            for (int k = 0; k < 3; ++k)
+              v[k] = s.mesh.vertices[tri[k]].cast<double>();
+            const double area = (v[1] - v[0]).head<2>().x() * (v[2] - v[0]).head<2>().y() -
+                                (v[2] - v[0]).head<2>().x() * (v[1] - v[0]).head<2>().y();
+            ASSERT_GT(area, 0.0);  // counter-clockwise from above
+            const auto edge = [&](int a, int b) {
+              return ((v[b] - v[a]).x() * (p.y() - v[a].y()) -
+                      (v[b] - v[a]).y() * (p.x() - v[a].x())) /
+                     area;
+            };
+            const double l0 = edge(1, 2), l1 = edge(2, 0), l2 = edge(0, 1);
+            if (l0 < -1e-6 || l1 < -1e-6 || l2 < -1e-6)
+              continue;
+            found = true;
+            const double plane = l0 * v[0].z() + l1 * v[1].z() + l2 * v[2].z();
+            worst = std::max(worst, std::abs(t.height(c, r) - t.z0 - plane));
+            break;
+          }
+          ASSERT_TRUE(found) << "grid point " << c << ", " << r << " outside the mesh";
+        }
+      EXPECT_LE(worst, tol + 1e-4);  // float vertices
+    }
+  }
+}
+
+}  // namespace
+}  // namespace trainsim

@@ -1,0 +1,93 @@
+// Shared by the environment tests: the default scenario's world (with small tiles), its tiles,
+// and the brute-force nearest-track reference over every segment of every track.
+#pragma once
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "trainsim/environment/environment.hpp"
+#include "trainsim/sim/plan.hpp"
+#include "trainsim/sim/schema.hpp"
+#include "trainsim/terrain/railway.hpp"
+
+namespace trainsim {
+
+using scenario::Json;
+
+struct World {
+  scenario::Scenario scenario;
+  std::unique_ptr<sim::Plan> plan;
+  std::shared_ptr<const sim::EnvironmentStage> stage;
+  const environment::Environment& env() const { return *stage->environment; }
+  const terrain::Railway& railway() const { return *stage->railway; }
+};
+
+// The default scenario (station, bridge, two tunnels, double and auxiliary track) with small
+// tiles so the tests stay quick, and `patch` merged in.
+inline World makeWorld(const Json& patch = Json::object()) {
+  Json input = Json::parse(sim::defaultScenarioText());
+  input["terrain"]["tile_vertices"] = 257;
+  input.merge_patch(patch);
+  World w{sim::resolveScenario(input, "", "test"), nullptr, nullptr};
+  w.plan = sim::makePlan(w.scenario);
+  w.stage = sim::makeEnvironment(*w.plan, w.scenario);
+  return w;
+}
+
+inline const World& defaultWorld() {
+  static const World world = makeWorld();
+  return world;
+}
+
+// Every segment of every track, sampled whole: the brute-force reference.
+struct Segment {
+  Eigen::Vector3d a, b;
+  int track;
+  track::LayoutBlockType type;
+};
+inline std::vector<Segment> allSegments(const World& w) {
+  std::vector<Segment> out;
+  for (const auto& t : w.railway().layout().tracks) {
+    const track::Polyline line = track::samplePolyline(w.railway().main(), t);
+    for (std::size_t k = 0; k + 1 < line.points.size(); ++k)
+      out.push_back(
+          {line.points[k], line.points[k + 1], t.id,
+           w.railway().typeAt(t.id, 0.5 * (line.distance_m[k] + line.distance_m[k + 1]))});
+  }
+  return out;
+}
+
+struct Nearest {
+  double d = std::numeric_limits<double>::infinity();
+  double z = 0.0;
+  track::LayoutBlockType type{};
+};
+inline Nearest nearest(const std::vector<Segment>& segments, const Eigen::Vector2d& p,
+                       bool tunnels) {
+  Nearest n;
+  for (const Segment& s : segments) {
+    if ((s.type == track::LayoutBlockType::kTunnel) != tunnels)
+      continue;
+    const Eigen::Vector2d u = s.b.head<2>() - s.a.head<2>();
+    const double t = std::clamp((p - s.a.head<2>()).dot(u) / u.squaredNorm(), 0.0, 1.0);
+    const double d = (p - s.a.head<2>() - t * u).norm();
+    if (d < n.d)
+      n = {d, s.a.z() + t * (s.b.z() - s.a.z()), s.type};
+  }
+  return n;
+}
+
+// All tiles of the default route, made once for the geometry tests.
+inline const std::vector<std::shared_ptr<const scene::Tile>>& allTiles() {
+  static const auto tiles = [] {
+    std::vector<std::shared_ptr<const scene::Tile>> out;
+    for (const auto& i : defaultWorld().env().tiles())
+      out.push_back(defaultWorld().env().tile(i));
+    return out;
+  }();
+  return tiles;
+}
+
+}  // namespace trainsim
