@@ -144,7 +144,7 @@ TEST(Terrain, ValleysUnderBridgesAndGroundOverTunnels) {
 
 TEST(Terrain, ATileIsTheSameAloneInAnyOrderOnAnyThreadAndAgreesWithItsNeighbours) {
   const World& w = defaultWorld();
-  const auto& tiles = w.env().tiles();
+  const auto& tiles = w.env().terrain().tiles();
   ASSERT_GE(tiles.size(), 4u);
   const scene::TileIndex first = *tiles.begin(), last = *tiles.rbegin();
   const terrain::TerrainTile alone = w.env().terrain().tile(last);
@@ -174,9 +174,45 @@ TEST(Terrain, ATileIsTheSameAloneInAnyOrderOnAnyThreadAndAgreesWithItsNeighbours
   (void)first;
 }
 
+TEST(Terrain, SceneTilesAreTheTerrainTilesCutExactly) {
+  // Made on their own, the finer scene tiles hold bit for bit the heights of the terrain tile
+  // around them, and cover every terrain tile's square near a track.
+  const World& w = defaultWorld();
+  const int split = w.env().params().terrain.scene_tile_split;
+  ASSERT_GT(split, 1);
+  EXPECT_DOUBLE_EQ(w.env().grid().size_m * split, w.env().terrain().grid().size_m);
+  int compared = 0;
+  for (const auto& index : w.env().terrain().tiles()) {
+    if (compared >= 12)
+      break;
+    const terrain::TerrainTile whole = w.env().terrain().tile(index);
+    for (std::int32_t j = index.j * split; j < (index.j + 1) * split; ++j)
+      for (std::int32_t i = index.i * split; i < (index.i + 1) * split; ++i) {
+        if (!w.env().tiles().contains({i, j}))
+          continue;
+        const terrain::TerrainTile alone = w.env().terrain().sceneTile({i, j});
+        const terrain::TerrainTile cut = terrain::cropTile(whole, {i, j}, split);
+        ASSERT_EQ(alone.n, (whole.n - 1) / split + 1);
+        ASSERT_EQ(cut.heights.size(), alone.heights.size());
+        EXPECT_EQ(std::memcmp(cut.heights.data(), alone.heights.data(),
+                              alone.heights.size() * sizeof(double)),
+                  0);
+        EXPECT_EQ(cut.origin, alone.origin);
+        EXPECT_EQ(cut.z0, alone.z0);
+        ++compared;
+      }
+  }
+  EXPECT_GE(compared, 12);
+  // Every scene tile lies in an existing terrain tile.
+  for (const auto& t : w.env().tiles())
+    EXPECT_TRUE(w.env().terrain().tiles().contains(
+        {static_cast<std::int32_t>(std::floor(static_cast<double>(t.i) / split)),
+         static_cast<std::int32_t>(std::floor(static_cast<double>(t.j) / split))}));
+}
+
 TEST(Terrain, HeightPngRoundTrips) {
   const World& w = defaultWorld();
-  const terrain::TerrainTile t = w.env().terrain().tile(*w.env().tiles().begin());
+  const terrain::TerrainTile t = w.env().terrain().tile(*w.env().terrain().tiles().begin());
   const auto dir = std::filesystem::temp_directory_path() / "trainsim_height_png";
   std::filesystem::create_directories(dir);
   terrain::writeHeightPng(t, dir / "tile.png");
@@ -197,7 +233,7 @@ TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
   // triangles, and its height compared with the triangle's plane.
   const World w = makeWorld({{"terrain", {{"tile_vertices", 65}}}});
   int tiles = 0;
-  for (const auto& index : w.env().tiles()) {
+  for (const auto& index : w.env().terrain().tiles()) {
     if (++tiles > 6)
       break;
     const terrain::TerrainTile t = w.env().terrain().tile(index);

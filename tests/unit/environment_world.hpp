@@ -29,6 +29,7 @@ struct World {
 inline World makeWorld(const Json& patch = Json::object()) {
   Json input = Json::parse(sim::defaultScenarioText());
   input["terrain"]["tile_vertices"] = 257;
+  input["terrain"]["scene_tile_split"] = 2;  // scene tiles of 128 m
   input.merge_patch(patch);
   World w{sim::resolveScenario(input, "", "test"), nullptr, nullptr};
   w.plan = sim::makePlan(w.scenario);

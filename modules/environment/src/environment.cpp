@@ -47,7 +47,7 @@ const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kin
 }
 
 std::vector<PlacedObject> Environment::objects(scene::TileIndex index) const {
-  const terrain::TerrainTile heights = terrain_.tile(index);
+  const terrain::TerrainTile heights = terrain_.sceneTile(index);
   return objects(index, heights);
 }
 
@@ -57,7 +57,7 @@ std::vector<PlacedObject> Environment::objects(scene::TileIndex index,
 }
 
 std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index) const {
-  return tile(index, terrain_.tile(index));
+  return tile(index, terrain_.sceneTile(index));
 }
 
 std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,

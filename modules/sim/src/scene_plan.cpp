@@ -24,7 +24,7 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
   fs::create_directories(terrain_dir, ec);
   if (ec)
     throw IoError(fmt::format("{}: cannot create it: {}", terrain_dir.string(), ec.message()));
-  // The window: tiles within 150 m of the main track between the two chainages.
+  // The window: scene tiles within 150 m of the main track between the two chainages.
   const auto& main = stage.railway->main();
   const double from = std::clamp(window.from_m, 0.0, main.length());
   const double to = std::clamp(window.to_m, from, main.length());
@@ -41,35 +41,49 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
     if (x >= to)
       break;
   }
-  // Tile by tile, each tile's heights made once; memory is one tile's beyond the window's.
+  // Terrain tile by terrain tile, each tile's heights made once and cut into its scene tiles
+  // for their objects and, in the window, their scene; memory is one terrain tile's beyond the
+  // window's.
   io::AtomicFile objects(folder / "objects.csv");
   objects.write("instance,kind,variant,class,x_m,y_m,z_m,radius_m,yaw_rad\n");
   const auto kinds = environment::objectKinds();
+  const int split = env.params().terrain.scene_tile_split;
   std::vector<std::shared_ptr<const scene::Tile>> tiles;
-  for (const scene::TileIndex& index : env.tiles()) {
+  for (const scene::TileIndex& index : env.terrain().tiles()) {
     throwIfCancelled();
     const terrain::TerrainTile heights = env.terrain().tile(index);
     const std::string stem = fmt::format("tile_{}_{}", index.i, index.j);
     terrain::writeHeightPng(heights, terrain_dir / (stem + ".png"));
-    std::string rows;
-    for (const environment::PlacedObject& o : env.objects(index, heights))
-      rows += fmt::format(
-          "{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f}\n", o.instance, kinds[o.kind].name,
-          o.variant, scene::semanticClass(env.prototype(o.kind, o.variant)->parts.back().cls).name,
-          o.position.x(), o.position.y(), o.position.z(), o.radius_m, o.yaw_rad);
-    objects.write(rows);
-    if (wanted.contains(index)) {
-      // The window's height maps also as VTK image data (Warp By Scalar shows them in 3D).
+    bool in_window = false;
+    for (std::int32_t j = index.j * split; j < (index.j + 1) * split; ++j)
+      for (std::int32_t i = index.i * split; i < (index.i + 1) * split; ++i) {
+        if (!env.tiles().contains({i, j}))
+          continue;
+        const terrain::TerrainTile part = terrain::cropTile(heights, {i, j}, split);
+        std::string rows;
+        for (const environment::PlacedObject& o : env.objects({i, j}, part))
+          rows += fmt::format(
+              "{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f}\n", o.instance, kinds[o.kind].name,
+              o.variant,
+              scene::semanticClass(env.prototype(o.kind, o.variant)->parts.back().cls).name,
+              o.position.x(), o.position.y(), o.position.z(), o.radius_m, o.yaw_rad);
+        objects.write(rows);
+        if (wanted.contains({i, j})) {
+          tiles.push_back(env.tile({i, j}, part));
+          in_window = true;
+        }
+      }
+    // The window's height maps also as VTK image data (Warp By Scalar shows them in 3D).
+    if (in_window)
       scene::writeHeightVti(terrain_dir / (stem + ".vti"), heights.n, heights.origin,
                             heights.spacing_m, heights.heights);
-      tiles.push_back(env.tile(index, heights));
-    }
   }
   objects.commit();
   const Eigen::Vector3d origin = stage.railway->frame(0, from).position;
   scene::writeVtm(tiles, folder / "scene.vtm", origin);
-  logInfo(fmt::format("scene: {} terrain tiles, scene.vtm with {} tiles (chainage {:.0f}-{:.0f} m)",
-                      env.tiles().size(), tiles.size(), from, to));
+  logInfo(fmt::format(
+      "scene: {} terrain tiles, scene.vtm with {} scene tiles (chainage {:.0f}-{:.0f} m)",
+      env.terrain().tiles().size(), tiles.size(), from, to));
 }
 
 }  // namespace trainsim::sim

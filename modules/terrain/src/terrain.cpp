@@ -89,19 +89,21 @@ struct Terrain::Field {
 
 Terrain::Terrain(std::shared_ptr<const Railway> railway, TerrainParams params, std::uint64_t seed)
     : railway_(std::move(railway)), params_(params), seed_(seed) {
-  const scene::TileGrid g = grid();
+  if (params_.scene_tile_split < 1 || (params_.tile_vertices - 1) % params_.scene_tile_split != 0)
+    throw ConfigError("terrain.scene_tile_split must divide terrain.tile_vertices - 1");
   const double margin = params_.tile_margin_m;
   for (const Railway::RunBox& box : railway_->runBoxes()) {
     throwIfCancelled();
     const track::Polyline line = railway_->polyline({box.track, box.x0, box.x1});
-    for (const auto& p : line.points) {
-      const scene::TileIndex lo = g.tileAt(p.x() - margin, p.y() - margin);
-      const scene::TileIndex hi = g.tileAt(p.x() + margin, p.y() + margin);
-      for (std::int32_t i = lo.i; i <= hi.i; ++i)
-        for (std::int32_t j = lo.j; j <= hi.j; ++j)
-          if (g.distance({i, j}, p.head<2>()) <= margin)
-            tiles_.insert({i, j});
-    }
+    for (const auto& p : line.points)
+      for (const auto& [g, set] : {std::pair{grid(), &tiles_}, {sceneGrid(), &scene_tiles_}}) {
+        const scene::TileIndex lo = g.tileAt(p.x() - margin, p.y() - margin);
+        const scene::TileIndex hi = g.tileAt(p.x() + margin, p.y() + margin);
+        for (std::int32_t i = lo.i; i <= hi.i; ++i)
+          for (std::int32_t j = lo.j; j <= hi.j; ++j)
+            if (g.distance({i, j}, p.head<2>()) <= margin)
+              set->insert({i, j});
+      }
   }
 }
 
@@ -284,7 +286,34 @@ void Terrain::fill(Field& f) const {
 }
 
 TerrainTile Terrain::tile(scene::TileIndex index) const {
-  const int n = params_.tile_vertices;
+  return square(index, params_.tile_vertices);
+}
+
+TerrainTile Terrain::sceneTile(scene::TileIndex index) const {
+  return square(index, (params_.tile_vertices - 1) / params_.scene_tile_split + 1);
+}
+
+TerrainTile cropTile(const TerrainTile& tile, scene::TileIndex index, int split) {
+  const int n = (tile.n - 1) / split + 1;
+  const int c0 = (index.i - tile.index.i * split) * (n - 1);
+  const int r0 = (index.j - tile.index.j * split) * (n - 1);
+  if (c0 < 0 || r0 < 0 || c0 + n > tile.n || r0 + n > tile.n)
+    throw std::logic_error("cropTile: the scene tile is not inside the terrain tile");
+  TerrainTile t;
+  t.index = index;
+  t.n = n;
+  t.spacing_m = tile.spacing_m;
+  t.origin = tile.origin + tile.spacing_m * Eigen::Vector2d(c0, r0);
+  t.heights.reserve(static_cast<std::size_t>(n) * n);
+  for (int r = 0; r < n; ++r) {
+    const auto row = tile.heights.begin() + static_cast<std::ptrdiff_t>(r0 + r) * tile.n + c0;
+    t.heights.insert(t.heights.end(), row, row + n);
+  }
+  t.z0 = std::floor(*std::min_element(t.heights.begin(), t.heights.end()));
+  return t;
+}
+
+TerrainTile Terrain::square(scene::TileIndex index, int n) const {
   Field f;
   f.spacing = params_.spacing_m;
   f.nx = f.ny = n;

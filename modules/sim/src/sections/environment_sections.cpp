@@ -76,6 +76,13 @@ const scenario::Section<terrain::TerrainParams>& terrainSection() {
     b.number("simplify_tolerance_m", &T::simplify_tolerance_m, kM,
              "Terrain meshes within this vertical error of the grid (0: the full grid)")
         .range(0, 5);
+    b.integer("scene_tile_split", &T::scene_tile_split, "",
+              "The scene streams in tiles this many times finer than the terrain tiles (per side)")
+        .range(1, 16);
+    b.check([](const T& t, const scenario::FieldPaths<T>& at, std::vector<Problem>& out) {
+      if ((t.tile_vertices - 1) % t.scene_tile_split != 0)
+        out.push_back({at(t.scene_tile_split), "must divide " + at.key(t.tile_vertices) + " - 1"});
+    });
     b.notAbove(&T::d_near_m, &T::d_far_m);
     b.notAbove(&T::d_near_station_m, &T::d_far_m);
     return s;

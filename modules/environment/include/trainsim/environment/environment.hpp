@@ -101,12 +101,14 @@ class Environment {
   const terrain::Terrain& terrain() const { return terrain_; }
   const terrain::Railway& railway() const { return *railway_; }
   const EnvironmentParams& params() const { return params_; }
-  scene::TileGrid grid() const { return terrain_.grid(); }
-  const std::set<scene::TileIndex>& tiles() const { return terrain_.tiles(); }
+  /// The scene's tiles: the terrain's scene grid (terrain tiles split scene_tile_split times per
+  /// side), so the tiles within a sensor's reach hold little more than what it can see.
+  scene::TileGrid grid() const { return terrain_.sceneGrid(); }
+  const std::set<scene::TileIndex>& tiles() const { return terrain_.sceneTiles(); }
 
-  /// Everything in one tile.
+  /// Everything in one scene tile.
   std::shared_ptr<const scene::Tile> tile(scene::TileIndex index) const;
-  /// The same with the tile's terrain already made.
+  /// The same with the tile's terrain already made (Terrain::sceneTile or cropTile).
   std::shared_ptr<const scene::Tile> tile(scene::TileIndex index,
                                           const terrain::TerrainTile& heights) const;
   /// The trackside objects anchored in a tile (also in tile(), as instances).

@@ -44,8 +44,13 @@ struct TerrainParams {
   /// Terrain meshes simplified to this vertical error (CGAL greedy-insertion TIN); 0 keeps the
   /// full grid.
   double simplify_tolerance_m = 0.02;
+  /// The scene streams in squares this many times finer than the terrain tiles (a terrain
+  /// tile's side splits into this many scene tiles): small enough that the tiles within a
+  /// sensor's reach hold little more than what it can see. Divides tile_vertices - 1.
+  int scene_tile_split = 4;
 
   double tileSize() const { return spacing_m * (tile_vertices - 1); }
+  double sceneTileSize() const { return tileSize() / scene_tile_split; }
 };
 
 /// The height map of one tile: tile_vertices² heights (world z, double), row-major with x
@@ -79,7 +84,12 @@ struct HeightParts {
   double valley = 0.0;  ///< depth cut by bridge valleys (≥ 0)
 };
 
-/// The landscape: which tiles exist and each tile's heights.
+/// The part of `tile` under the square of scene tile `index` (Terrain::sceneGrid(), which splits
+/// the tile's side into `split`): the same heights, bit for bit, as Terrain::sceneTile(index).
+TerrainTile cropTile(const TerrainTile& tile, scene::TileIndex index, int split);
+
+/// The landscape: which tiles exist and each tile's heights, in the terrain grid and in the finer
+/// grid the scene streams in.
 class Terrain {
  public:
   Terrain(std::shared_ptr<const Railway> railway, TerrainParams params, std::uint64_t seed);
@@ -92,6 +102,14 @@ class Terrain {
 
   /// The tile's heights.
   TerrainTile tile(scene::TileIndex index) const;
+
+  /// The scene's grid: squares of sceneTileSize(), each inside one terrain tile.
+  scene::TileGrid sceneGrid() const { return {params_.sceneTileSize()}; }
+  /// Scene tiles within tile_margin_m of any track (a subset of the terrain tiles' squares).
+  const std::set<scene::TileIndex>& sceneTiles() const { return scene_tiles_; }
+  /// A scene tile's heights ((tile_vertices - 1) / scene_tile_split + 1 per side): the same
+  /// values as the terrain tile holding it has there.
+  TerrainTile sceneTile(scene::TileIndex index) const;
   /// The height at one world point, by the same rules as tile() (not from a tile: it builds a
   /// small index around the point), and what decided it.
   double heightAt(double x, double y, HeightParts* parts = nullptr) const;
@@ -101,11 +119,12 @@ class Terrain {
  private:
   struct Field;
   void fill(Field& field) const;
+  TerrainTile square(scene::TileIndex index, int n) const;
 
   std::shared_ptr<const Railway> railway_;
   TerrainParams params_;
   std::uint64_t seed_;
-  std::set<scene::TileIndex> tiles_;
+  std::set<scene::TileIndex> tiles_, scene_tiles_;
 };
 
 /// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`.
