@@ -11,6 +11,8 @@ find_package(Threads REQUIRED)
 find_package(CGAL REQUIRED)
 # libpng: 16-bit height maps and, later, depth, semantic and instance images.
 find_package(PNG REQUIRED)
+# Embree 3.13 (Debian: ray masks on, one instance level, TBB tasking): the LiDAR's ray casting.
+find_package(embree 3.13 REQUIRED)
 # oneTBB: the run loop's worker arena (sim) and, later, the LiDAR's column split.
 find_package(TBB REQUIRED)
 # GeographicLib's Find module lives outside CMake's default search path on Debian.

@@ -1,0 +1,93 @@
+#pragma once
+// A rotating LiDAR's frame: rays in scan order from the pose at each firing, cast into the
+// scene, with range noise, dropout and Lambertian-Beckmann intensity, in KITTI point order.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "trainsim/core/random.hpp"
+#include "trainsim/lidar/intensity.hpp"
+#include "trainsim/lidar/ray_scene.hpp"
+#include "trainsim/lidar/scan_pattern.hpp"
+
+namespace trainsim::lidar {
+
+struct LidarParams {
+  ScanPattern pattern;
+  /// Gaussian range noise: σ = range_sigma_m + range_sigma_slope · range.
+  double range_sigma_m = 0.02;
+  double range_sigma_slope = 0.0;
+  double dropout = 0.0;              ///< probability that a return is lost
+  double intensity_threshold = 0.0;  ///< returns whose reflectivity is below this are lost
+  IntensityScale scale = IntensityScale::kUnit;
+  bool range_falloff = false;  ///< intensity falls as 1/R² (raw) instead of reflectivity
+  /// Each column cast from the pose at its own firing time (a spinning sensor on a moving
+  /// train); otherwise every ray from the pose at the frame time.
+  bool motion_distortion = true;
+};
+
+/// One return.
+struct LidarPoint {
+  Eigen::Vector3f xyz;      ///< sensor frame at the frame time (motion-compensated, KITTI)
+  Eigen::Vector3f xyz_raw;  ///< sensor frame at the firing time (as the sensor measures it)
+  float intensity = 0.0f;   ///< scaled as LidarParams::scale says
+  float range_m = 0.0f;     ///< measured (noisy) range
+  float time_s = 0.0f;      ///< firing time after the frame time
+  std::uint16_t ring = 0;   ///< 0 = the highest laser
+  std::uint8_t return_index = 0;
+  scene::ClassId cls = 0;
+  scene::MaterialId material = 0;
+  scene::InstanceId instance = 0;
+};
+
+struct LidarFrame {
+  /// Ring by ring from ring 0 (the highest); within a ring by azimuth counter-clockwise from
+  /// just past the +x axis (KITTI's order, which LOAM-style odometry relies on).
+  std::vector<LidarPoint> points;
+  std::int64_t rays = 0;
+};
+
+/// The sensor's world pose (sensor → world) at `t` seconds after the frame time.
+using PoseAt = std::function<Eigen::Isometry3d(double t)>;
+
+/// A LiDAR with its beam directions worked out once (the table of every column's and laser's
+/// direction in the sensor frame).
+class Scanner {
+ public:
+  explicit Scanner(LidarParams params);
+  const LidarParams& params() const { return params_; }
+  std::int64_t raysPerFrame() const {
+    return static_cast<std::int64_t>(params_.pattern.columns) *
+           static_cast<std::int64_t>(params_.pattern.lasers.size());
+  }
+  /// Direction of laser l's ray in column c, sensor frame, unit.
+  const Eigen::Vector3d& direction(int column, int laser) const {
+    return directions_[static_cast<std::size_t>(column) * params_.pattern.lasers.size() +
+                       static_cast<std::size_t>(laser)];
+  }
+
+  /// The rays of a frame in firing order (column by column, lasers in firing order), relative
+  /// to `scene_origin`, each from the pose at its column's firing time (or the frame time).
+  std::vector<Ray> frameRays(const PoseAt& pose, const Eigen::Vector3d& scene_origin) const;
+
+  /// Casts one frame, columns split across the TBB workers of the calling arena. Random draws
+  /// come from `random` keyed by (frame, column), so the frame is the same for any number of
+  /// threads.
+  LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
+                  std::uint64_t frame) const;
+
+ private:
+  void columnRays(int column, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
+                  Ray* out) const;
+  Eigen::Isometry3d columnPose(const PoseAt& pose, int column,
+                               const Eigen::Isometry3d& frame_pose) const;
+
+  LidarParams params_;
+  std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
+  std::vector<std::vector<int>> order_;      // per ring: its columns in KITTI order
+};
+
+}  // namespace trainsim::lidar

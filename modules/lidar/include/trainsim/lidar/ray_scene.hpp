@@ -1,0 +1,90 @@
+#pragma once
+// Ray casting against the streamed scene with Embree, behind a pimpl: no Embree type here.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "trainsim/scene/scene.hpp"
+
+namespace trainsim::lidar {
+
+/// A ray relative to its scene's origin (float is enough there: the origin is near the
+/// sensor). `direction` must be a unit vector, so hit distances are ranges.
+struct Ray {
+  Eigen::Vector3f origin = Eigen::Vector3f::Zero();
+  Eigen::Vector3f direction = Eigen::Vector3f::UnitX();
+  float t_near = 0.0f;
+  float t_far = std::numeric_limits<float>::infinity();
+};
+
+/// What a ray hit: range (infinity for a miss), the unit geometric normal in world axes
+/// (facing either way), and the labels of the surface.
+struct RayHit {
+  float range = std::numeric_limits<float>::infinity();
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+  scene::ClassId cls = 0;
+  scene::MaterialId material = 0;
+  scene::InstanceId instance = 0;
+  bool hit() const { return range < std::numeric_limits<float>::infinity(); }
+};
+
+/// The scene a frame's rays are cast against: the tiles within the sensor's reach, each tile's
+/// own geometry one BVH (built once per tile and instanced), shared prototypes (trees, rocks,
+/// signals) one BVH each, instanced per object, wires as round linear curves. Everything is
+/// placed relative to origin() in float, transforms computed in double, so accuracy does not
+/// depend on the distance from the scenario origin. Immutable, thread-safe to cast into.
+class RayScene {
+ public:
+  /// The scene's origin (world, double): ray origins are relative to it.
+  const Eigen::Vector3d& origin() const;
+  /// Casts `rays` in packets of 8 (coherent: keep them in scan order) and writes `hits`.
+  /// Sets flush-to-zero and denormals-are-zero on the calling thread.
+  void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
+  /// The same traversal with nothing done to the hits but keeping the range: the benchmark's
+  /// reference for what labels and normals cost.
+  void intersectRanges(std::span<const Ray> rays, std::span<float> ranges) const;
+  /// Top-level instances (tiles + instanced objects).
+  std::size_t instanceCount() const;
+
+  struct Impl;
+
+ private:
+  friend class RayWorld;
+  explicit RayScene(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+  std::shared_ptr<const Impl> impl_;
+};
+
+struct RayWorldOptions {
+  /// Shared prototypes as Embree instances (stored once); false bakes every object's triangles
+  /// into its tile's BVH (the benchmark's "flattened" comparison).
+  bool instance_objects = true;
+};
+
+/// The Embree device and the BVHs built so far: one per tile (kept while the tile is in one of
+/// the last scenes asked for) and one per shared prototype. A run makes one and asks it for a
+/// scene per frame; a frame whose tiles are those of the previous frame gets the same scene.
+/// Thread-safe.
+class RayWorld {
+ public:
+  explicit RayWorld(RayWorldOptions options = {});
+  ~RayWorld();
+  RayWorld(const RayWorld&) = delete;
+  RayWorld& operator=(const RayWorld&) = delete;
+
+  /// The scene of these tiles (a window of the scene stream), origin at the first tile's
+  /// origin: a pure function of the tiles, so frames cast the same bytes whichever thread or
+  /// order made the scene.
+  RayScene scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles);
+  /// Tile BVHs built so far (a tile dropped and asked for again is built again).
+  std::int64_t tileBuilds() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace trainsim::lidar

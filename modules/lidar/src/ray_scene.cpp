@@ -1,0 +1,388 @@
+// The Embree side of the LiDAR: tile and prototype BVHs, the per-frame top-level scene, and
+// packet traversal. Embree 3.13 as Debian builds it: ray masks on (every ray sets mask = ~0),
+// one instance level, TBB tasking (commits share the run's TBB workers).
+#include "trainsim/lidar/ray_scene.hpp"
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <list>
+#include <map>
+#include <mutex>
+#include <string>
+
+#include "trainsim/core/error.hpp"
+
+namespace trainsim::lidar {
+namespace {
+
+std::mutex error_mutex;
+std::string error_text;  // the device's last message, for the exception that reports it
+
+void onEmbreeError(void* /*user*/, RTCError /*code*/, const char* message) {
+  const std::lock_guard lock(error_mutex);
+  error_text = message ? message : "";
+}
+
+void check(RTCDevice device, const char* what) {
+  const RTCError e = rtcGetDeviceError(device);
+  if (e == RTC_ERROR_NONE)
+    return;
+  const std::lock_guard lock(error_mutex);
+  throw RuntimeError(
+      fmt::format("Embree: {} failed (error {}: {})", what, static_cast<int>(e), error_text));
+}
+
+// Labels of one geometry of a BVH: a mesh's parts (class and material by triangle) or a wire's.
+struct GeomInfo {
+  const scene::Mesh* mesh = nullptr;  // null for a wire
+  scene::ClassId cls = 0;
+  scene::MaterialId material = 0;
+  scene::InstanceId instance = 0;
+};
+
+struct SceneHandle {
+  RTCScene scene = nullptr;
+  SceneHandle() = default;
+  explicit SceneHandle(RTCScene s) : scene(s) {}
+  SceneHandle(const SceneHandle&) = delete;
+  SceneHandle& operator=(const SceneHandle&) = delete;
+  ~SceneHandle() {
+    if (scene)
+      rtcReleaseScene(scene);
+  }
+};
+
+// Adds `mesh` to `scene` as one triangle geometry, each vertex v placed at offset + linear · v.
+void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
+                  const Eigen::Vector3d& offset, const Eigen::Matrix3f& linear) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
+  const bool identity = linear.isIdentity(0.0f);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d p =
+        offset +
+        (identity ? mesh.vertices[i] : Eigen::Vector3f(linear * mesh.vertices[i])).cast<double>();
+    v[3 * i] = static_cast<float>(p.x());
+    v[3 * i + 1] = static_cast<float>(p.y());
+    v[3 * i + 2] = static_cast<float>(p.z());
+  }
+  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      t[3 * i + k] = mesh.triangles[i][static_cast<std::size_t>(k)];
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+}
+
+// A wire as a round linear curve (cones between its points, spheres at the joints).
+void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), wire.points.size()));
+  for (std::size_t i = 0; i < wire.points.size(); ++i) {
+    v[4 * i] = wire.points[i].x();
+    v[4 * i + 1] = wire.points[i].y();
+    v[4 * i + 2] = wire.points[i].z();
+    v[4 * i + 3] = wire.radius_m;
+  }
+  const std::size_t segments = wire.points.size() - 1;
+  auto* s = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments));
+  for (std::size_t i = 0; i < segments; ++i)
+    s[i] = static_cast<unsigned>(i);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+}
+
+bool sharedMesh(const scene::Object& o) {
+  return o.mesh.use_count() > 1;
+}
+
+}  // namespace
+
+// One tile's own geometry (terrain, rails, sleepers, ballast, structures, wires; with
+// flattening also its objects), relative to the tile's origin.
+struct TileBvh {
+  std::shared_ptr<const scene::Tile> tile;
+  SceneHandle handle;
+  std::vector<GeomInfo> geoms;  // by geomID
+};
+
+// A shared prototype's mesh, relative to its foot.
+struct ProtoBvh {
+  std::shared_ptr<const scene::Mesh> mesh;
+  SceneHandle handle;
+};
+
+// One top-level instance: a tile or an object.
+struct InstInfo {
+  std::shared_ptr<const TileBvh> tile;    // set for a tile
+  std::shared_ptr<const ProtoBvh> proto;  // set for an object
+  scene::InstanceId instance = 0;
+  Eigen::Matrix3f normal = Eigen::Matrix3f::Identity();  // inverse transpose of the linear part
+};
+
+struct RayScene::Impl {
+  std::shared_ptr<void> device_keepalive;
+  Eigen::Vector3d origin;
+  SceneHandle top;
+  std::vector<InstInfo> instances;  // by instID
+  std::vector<scene::TileIndex> key;
+};
+
+namespace {
+
+void setFlushToZero() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+// Loads rays [first, first + n) of `rays` (n ≤ 8) into a packet; lanes past n are inactive.
+void loadPacket(std::span<const Ray> rays, std::size_t first, std::size_t n, RTCRayHit8& p,
+                int valid[8]) {
+  for (std::size_t k = 0; k < 8; ++k) {
+    if (k >= n) {
+      valid[k] = 0;
+      continue;
+    }
+    const Ray& r = rays[first + k];
+    valid[k] = -1;
+    p.ray.org_x[k] = r.origin.x();
+    p.ray.org_y[k] = r.origin.y();
+    p.ray.org_z[k] = r.origin.z();
+    p.ray.dir_x[k] = r.direction.x();
+    p.ray.dir_y[k] = r.direction.y();
+    p.ray.dir_z[k] = r.direction.z();
+    p.ray.tnear[k] = r.t_near;
+    p.ray.tfar[k] = r.t_far;
+    p.ray.time[k] = 0.0f;
+    p.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks on
+    p.ray.id[k] = static_cast<unsigned>(k);
+    p.ray.flags[k] = 0;
+    p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+}
+
+template <typename Store>
+void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) {
+  setFlushToZero();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(32) RTCRayHit8 packet;
+  alignas(32) int valid[8];
+  for (std::size_t first = 0; first < rays.size(); first += 8) {
+    const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
+    loadPacket(rays, first, n, packet, valid);
+    rtcIntersect8(valid, scene, &context, &packet);
+    for (std::size_t k = 0; k < n; ++k)
+      store(first + k, packet, k);
+  }
+}
+
+}  // namespace
+
+const Eigen::Vector3d& RayScene::origin() const {
+  return impl_->origin;
+}
+
+std::size_t RayScene::instanceCount() const {
+  return impl_->instances.size();
+}
+
+void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
+  const Impl& s = *impl_;
+  castPackets(s.top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
+    RayHit& h = hits[i];
+    if (p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+      h = RayHit{};
+      return;
+    }
+    const InstInfo& inst = s.instances[p.hit.instID[0][k]];
+    const Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
+    h.range = p.ray.tfar[k];
+    h.normal = (inst.normal * ng).normalized();
+    const unsigned prim = p.hit.primID[k];
+    const GeomInfo* g = nullptr;
+    GeomInfo proto_info;
+    if (inst.tile) {
+      g = &inst.tile->geoms[p.hit.geomID[k]];
+    } else {
+      proto_info.mesh = inst.proto->mesh.get();
+      proto_info.instance = inst.instance;
+      g = &proto_info;
+    }
+    h.instance = g->instance;
+    if (g->mesh == nullptr) {
+      h.cls = g->cls;
+      h.material = g->material;
+      return;
+    }
+    const auto& parts = g->mesh->parts;
+    auto it = std::upper_bound(
+        parts.begin(), parts.end(), prim,
+        [](unsigned t, const scene::MeshPart& part) { return t < part.first_triangle; });
+    const scene::MeshPart& part = *std::prev(it);
+    h.cls = part.cls;
+    h.material = part.material;
+  });
+}
+
+void RayScene::intersectRanges(std::span<const Ray> rays, std::span<float> ranges) const {
+  castPackets(impl_->top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
+    ranges[i] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
+                                                           : p.ray.tfar[k];
+  });
+}
+
+struct RayWorld::Impl {
+  RayWorldOptions options;
+  std::shared_ptr<RTCDeviceTy> device;
+  mutable std::mutex mutex;
+  std::map<scene::TileIndex, std::shared_ptr<const TileBvh>> tiles;
+  std::list<scene::TileIndex> lru;  // most recent first
+  std::map<const scene::Mesh*, std::shared_ptr<const ProtoBvh>> protos;
+  std::shared_ptr<const RayScene::Impl> last;
+  std::int64_t tile_builds = 0;
+  static constexpr std::size_t kTileCapacity = 32;
+
+  std::shared_ptr<const TileBvh> buildTile(const std::shared_ptr<const scene::Tile>& tile) {
+    auto bvh = std::make_shared<TileBvh>();
+    bvh->tile = tile;
+    RTCDevice d = device.get();
+    bvh->handle.scene = rtcNewScene(d);
+    rtcSetSceneBuildQuality(bvh->handle.scene, RTC_BUILD_QUALITY_HIGH);
+    // Robust traversal: no ray slips through an edge shared by two triangles (terrain).
+    rtcSetSceneFlags(bvh->handle.scene, RTC_SCENE_FLAG_ROBUST);
+    for (const scene::Object& o : tile->objects) {
+      if (options.instance_objects && sharedMesh(o))
+        continue;
+      addTriangles(d, bvh->handle.scene, *o.mesh, o.position - tile->origin, o.linear);
+      bvh->geoms.push_back({o.mesh.get(), 0, 0, o.instance});
+    }
+    for (const scene::Wire& w : tile->wires) {
+      if (w.points.size() < 2)
+        continue;
+      addWire(d, bvh->handle.scene, w);
+      bvh->geoms.push_back({nullptr, w.cls, w.material, w.instance});
+    }
+    rtcCommitScene(bvh->handle.scene);
+    check(d, "building a tile's BVH");
+    ++tile_builds;
+    return bvh;
+  }
+
+  std::shared_ptr<const TileBvh> tile(const std::shared_ptr<const scene::Tile>& t) {
+    auto it = tiles.find(t->index);
+    if (it != tiles.end()) {
+      lru.remove(t->index);
+      lru.push_front(t->index);
+      return it->second;
+    }
+    auto bvh = buildTile(t);
+    tiles.emplace(t->index, bvh);
+    lru.push_front(t->index);
+    while (lru.size() > kTileCapacity) {
+      tiles.erase(lru.back());
+      lru.pop_back();
+    }
+    return bvh;
+  }
+
+  std::shared_ptr<const ProtoBvh> proto(const std::shared_ptr<const scene::Mesh>& mesh) {
+    auto it = protos.find(mesh.get());
+    if (it != protos.end())
+      return it->second;
+    auto bvh = std::make_shared<ProtoBvh>();
+    bvh->mesh = mesh;
+    RTCDevice d = device.get();
+    bvh->handle.scene = rtcNewScene(d);
+    rtcSetSceneBuildQuality(bvh->handle.scene, RTC_BUILD_QUALITY_HIGH);
+    // Robust traversal: no ray slips through an edge shared by two triangles (terrain).
+    rtcSetSceneFlags(bvh->handle.scene, RTC_SCENE_FLAG_ROBUST);
+    addTriangles(d, bvh->handle.scene, *mesh, Eigen::Vector3d::Zero(), Eigen::Matrix3f::Identity());
+    rtcCommitScene(bvh->handle.scene);
+    check(d, "building a prototype's BVH");
+    protos.emplace(mesh.get(), bvh);
+    return bvh;
+  }
+};
+
+RayWorld::RayWorld(RayWorldOptions options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  RTCDevice device = rtcNewDevice(nullptr);
+  if (device == nullptr)
+    throw RuntimeError(fmt::format("Embree: cannot create a device (error {})",
+                                   static_cast<int>(rtcGetDeviceError(nullptr))));
+  rtcSetDeviceErrorFunction(device, &onEmbreeError, nullptr);
+  impl_->device = std::shared_ptr<RTCDeviceTy>(device, [](RTCDevice d) { rtcReleaseDevice(d); });
+}
+
+RayWorld::~RayWorld() = default;
+
+std::int64_t RayWorld::tileBuilds() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->tile_builds;
+}
+
+RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles) {
+  Impl& w = *impl_;
+  const std::lock_guard lock(w.mutex);
+  std::vector<scene::TileIndex> key;
+  for (const auto& t : tiles)
+    key.push_back(t->index);
+  if (w.last && w.last->key == key)
+    return RayScene(w.last);
+  auto s = std::make_shared<RayScene::Impl>();
+  s->device_keepalive = w.device;
+  s->key = key;
+  s->origin = tiles.empty() ? Eigen::Vector3d::Zero() : tiles.front()->origin;
+  RTCDevice d = w.device.get();
+  s->top.scene = rtcNewScene(d);
+  rtcSetSceneFlags(s->top.scene, RTC_SCENE_FLAG_ROBUST);
+  const auto attach = [&](RTCScene child, const Eigen::Matrix3f& linear,
+                          const Eigen::Vector3d& position, InstInfo info) {
+    RTCGeometry g = rtcNewGeometry(d, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, child);
+    const Eigen::Vector3d t = position - s->origin;  // in double, then float
+    float xfm[12];
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        xfm[4 * r + c] = linear(r, c);
+      xfm[4 * r + 3] = static_cast<float>(t[r]);
+    }
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(s->top.scene, g);
+    rtcReleaseGeometry(g);
+    info.normal = linear.inverse().transpose();
+    s->instances.push_back(std::move(info));
+  };
+  for (const auto& t : tiles) {
+    auto bvh = w.tile(t);
+    attach(bvh->handle.scene, Eigen::Matrix3f::Identity(), t->origin, {bvh, nullptr, 0, {}});
+    if (!w.options.instance_objects)
+      continue;
+    for (const scene::Object& o : t->objects)
+      if (sharedMesh(o)) {
+        auto proto = w.proto(o.mesh);
+        attach(proto->handle.scene, o.linear, o.position, {nullptr, proto, o.instance, {}});
+      }
+  }
+  rtcCommitScene(s->top.scene);
+  check(d, "building the frame's top-level scene");
+  w.last = s;
+  return RayScene(std::move(s));
+}
+
+}  // namespace trainsim::lidar

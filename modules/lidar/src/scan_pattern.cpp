@@ -1,0 +1,113 @@
+#include "trainsim/lidar/scan_pattern.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "trainsim/core/error.hpp"
+
+namespace trainsim {
+namespace embedded {
+extern const std::string_view lidars_json;
+}  // namespace embedded
+
+namespace lidar {
+namespace {
+
+struct Preset {
+  ScanPattern pattern;
+  double firing_period_s = 0.0;
+};
+
+const std::vector<Preset>& presets() {
+  static const std::vector<Preset> table = [] {
+    std::vector<Preset> out;
+    const auto doc = nlohmann::json::parse(embedded::lidars_json);
+    for (const auto& p : doc.at("presets")) {
+      Preset preset;
+      ScanPattern& s = preset.pattern;
+      s.name = p.at("name").get<std::string>();
+      s.rotation_hz = p.at("rotation_hz").get<double>();
+      s.range_min_m = p.at("range_min_m").get<double>();
+      s.range_max_m = p.at("range_max_m").get<double>();
+      s.range_sigma_m = p.at("range_sigma_m").get<double>();
+      preset.firing_period_s = p.at("firing_period_us").get<double>() * 1e-6;
+      for (const auto& l : p.at("lasers"))
+        s.lasers.push_back(
+            {l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>() * 1e-6, 0});
+      s.assignRings();
+      out.push_back(std::move(preset));
+    }
+    return out;
+  }();
+  return table;
+}
+
+}  // namespace
+
+double ScanPattern::azimuthDeg(int column, int laser) const {
+  const Laser& l = lasers[static_cast<std::size_t>(laser)];
+  return 180.0 - 360.0 * (static_cast<double>(column) / columns + rotation_hz * l.time_offset_s) +
+         l.azimuth_offset_deg;
+}
+
+std::vector<int> ScanPattern::ringLasers() const {
+  std::vector<int> out(lasers.size());
+  for (std::size_t l = 0; l < lasers.size(); ++l)
+    out[static_cast<std::size_t>(lasers[l].ring)] = static_cast<int>(l);
+  return out;
+}
+
+void ScanPattern::assignRings() {
+  std::vector<int> order(lasers.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return lasers[static_cast<std::size_t>(a)].elevation_deg >
+           lasers[static_cast<std::size_t>(b)].elevation_deg;
+  });
+  for (std::size_t r = 0; r < order.size(); ++r)
+    lasers[static_cast<std::size_t>(order[r])].ring = static_cast<int>(r);
+}
+
+std::vector<std::string> presetNames() {
+  std::vector<std::string> out;
+  for (const Preset& p : presets())
+    out.push_back(p.pattern.name);
+  return out;
+}
+
+ScanPattern preset(std::string_view name, double rotation_hz, int columns) {
+  for (const Preset& p : presets()) {
+    if (p.pattern.name != name)
+      continue;
+    ScanPattern s = p.pattern;
+    if (rotation_hz > 0.0)
+      s.rotation_hz = rotation_hz;
+    s.columns = columns > 0
+                    ? columns
+                    : static_cast<int>(std::lround(1.0 / (p.firing_period_s * s.rotation_hz)));
+    return s;
+  }
+  throw ConfigError(
+      fmt::format("unknown LiDAR preset '{}' (known: {})", name, fmt::join(presetNames(), ", ")));
+}
+
+ScanPattern uniformPattern(int channels, double fov_up_deg, double fov_down_deg, int columns,
+                           double rotation_hz) {
+  ScanPattern s;
+  s.name = "uniform";
+  s.columns = columns;
+  s.rotation_hz = rotation_hz;
+  for (int l = 0; l < channels; ++l) {
+    const double f = channels > 1 ? static_cast<double>(l) / (channels - 1) : 0.0;
+    s.lasers.push_back({fov_up_deg + f * (fov_down_deg - fov_up_deg), 0.0, 0.0, l});
+  }
+  return s;
+}
+
+}  // namespace lidar
+}  // namespace trainsim

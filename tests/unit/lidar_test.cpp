@@ -1,0 +1,541 @@
+// The LiDAR against analytic scenes built here: planes, boxes, wires and spheres at known
+// places (also 1000 km from the scenario origin), the presets against their datasheet tables,
+// noise, intensity, range and incidence limits, motion distortion and thread independence.
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
+#include "trainsim/lidar/intensity.hpp"
+#include "trainsim/lidar/lidar.hpp"
+#include "trainsim/lidar/ray_scene.hpp"
+#include "trainsim/lidar/scan_pattern.hpp"
+#include "trainsim/scene/scene.hpp"
+
+namespace trainsim {
+namespace {
+
+using lidar::Ray;
+using lidar::RayHit;
+
+// Transcribed from sensors-reference.md 1.1, 1.2, 1.4 (S3 'xiesc') and 1.5, in laser id order.
+const std::vector<double> kVlp16Elevation = {-15.0, 1.0, -13.0, 3.0,  -11.0, 5.0,  -9.0, 7.0,
+                                             -7.0,  9.0, -5.0,  11.0, -3.0,  13.0, -1.0, 15.0};
+const std::vector<double> kHdl32Elevation = {
+    -30.67, -9.33,  -29.33, -8.0,   -28.0,  -6.67, -26.67, -5.33,  -25.33, -4.0,   -24.0,
+    -2.67,  -22.67, -1.33,  -21.33, 0.0,    -20.0, 1.33,   -18.67, 2.67,   -17.33, 4.0,
+    -16.0,  5.33,   -14.67, 6.67,   -13.33, 8.0,   -12.0,  9.33,   -10.67, 10.67};
+const std::vector<double> kHdl64Elevation = {
+    -7.23,   -6.849,  0.204,   0.591,   -6.56,   -6.19,   -8.563,  -8.219,  -5.889,  -5.483,
+    -7.943,  -7.552,  -3.119,  -2.792,  -5.135,  -4.809,  -2.488,  -2.091,  -4.53,   -4.157,
+    -1.81,   -1.459,  -3.819,  -3.469,  0.895,   1.293,   -1.143,  -0.756,  1.562,   1.96,
+    -0.452,  -0.089,  -22.358, -21.976, -11.295, -10.754, -21.491, -21.064, -24.555, -24.147,
+    -20.429, -19.892, -23.549, -22.966, -16.274, -15.906, -19.247, -18.923, -15.385, -14.927,
+    -18.429, -17.964, -14.291, -13.806, -17.368, -16.801, -10.176, -9.744,  -13.163, -12.83,
+    -9.3,    -8.775,  -12.294, -11.913};
+const std::vector<double> kHdl64AzimuthCorrection = {
+    -4.382, -2.253, 3.441,  5.683,  -0.055, 2.191,  -0.876, 1.39,   4.214, 6.485, 3.412,
+    5.676,  -4.34,  -2.123, -5.133, -2.907, -0.107, 2.147,  -0.871, 1.371, 4.162, 6.385,
+    3.405,  5.613,  -4.388, -2.172, -5.184, -2.94,  -0.11,  2.109,  -0.89, 1.334, -7.326,
+    -3.812, 5.073,  8.335,  -0.291, 3.11,   -1.613, 1.818,  6.538,  9.944, 5.48,  8.903,
+    -7.112, -3.675, -8.521, -4.989, -0.39,  3.004,  -1.626, 1.824,  6.277, 9.67,  5.178,
+    8.521,  -6.933, -3.685, -8.3,   -4.884, -0.342, 2.899,  -1.572, 1.664};
+const std::vector<double> kOs1Altitude = {
+    16.611,  16.084,  15.557,  15.029,  14.502,  13.975,  13.447, 12.92,   12.393,  11.865,
+    11.338,  10.811,  10.283,  9.756,   9.229,   8.701,   8.174,  7.646,   7.119,   6.592,
+    6.064,   5.537,   5.01,    4.482,   3.955,   3.428,   2.9,    2.373,   1.846,   1.318,
+    0.791,   0.264,   -0.264,  -0.791,  -1.318,  -1.846,  -2.373, -2.9,    -3.428,  -3.955,
+    -4.482,  -5.01,   -5.537,  -6.064,  -6.592,  -7.119,  -7.646, -8.174,  -8.701,  -9.229,
+    -9.756,  -10.283, -10.811, -11.338, -11.865, -12.393, -12.92, -13.447, -13.975, -14.502,
+    -15.029, -15.557, -16.084, -16.611};
+const std::vector<double> kOs1BeamAzimuth = {
+    3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055,
+    -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,
+    -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,
+    1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164,
+    3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055,
+    -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164};
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A tile at `origin` with the given meshes (tile-owned, placed at the origin) and wires.
+std::shared_ptr<const scene::Tile> makeTile(const Eigen::Vector3d& origin,
+                                            std::vector<scene::Mesh> meshes,
+                                            std::vector<scene::Wire> wires = {},
+                                            std::vector<scene::Object> objects = {}) {
+  auto tile = std::make_shared<scene::Tile>();
+  tile->origin = origin;
+  scene::InstanceId id = 1;
+  for (auto& m : meshes)
+    tile->objects.push_back(scene::Object::place(std::make_shared<const scene::Mesh>(std::move(m)),
+                                                 origin, Eigen::Matrix3f::Identity(), id++));
+  for (auto& o : objects)
+    tile->objects.push_back(std::move(o));
+  tile->wires = std::move(wires);
+  tile->updateBounds();
+  return tile;
+}
+
+// A square of side 2·half centred at `centre` (relative to the tile origin) with unit normal n.
+scene::Mesh square(const Eigen::Vector3d& centre, const Eigen::Vector3d& n, double half,
+                   scene::ClassId cls = scene::cls::kBuilding,
+                   scene::MaterialId mat = scene::mat::kConcrete) {
+  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+  scene::Mesh m;
+  m.beginPart(cls, mat);
+  const auto at = [&](double a, double b) {
+    return m.addVertex((centre + half * (a * u + b * v)).cast<float>());
+  };
+  m.addQuad(at(-1, -1), at(1, -1), at(1, 1), at(-1, 1));
+  return m;
+}
+
+// Exact ray–triangle distance in double (Möller–Trumbore), infinity for a miss.
+double rayTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
+                   const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a, p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-18)
+    return INFINITY;
+  const Eigen::Vector3d s = o - a;
+  const double u = s.dot(p) / det;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = d.dot(q) / det;
+  if (u < 0 || v < 0 || u + v > 1)
+    return INFINITY;
+  const double t = e2.dot(q) / det;
+  return t > 0 ? t : INFINITY;
+}
+
+// Brute force over every triangle of every object of the tile (world, double).
+double bruteForce(const scene::Tile& tile, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  double best = INFINITY;
+  for (const auto& obj : tile.objects)
+    for (const auto& t : obj.mesh->triangles)
+      best = std::min(best, rayTriangle(o, d, obj.worldVertex(t[0]), obj.worldVertex(t[1]),
+                                        obj.worldVertex(t[2])));
+  return best;
+}
+
+class RaySceneAt : public ::testing::TestWithParam<double> {};
+
+TEST_P(RaySceneAt, RangesMatchPlanesBoxesSpheresAndWiresToAMillimetre) {
+  // The same scene at the origin and 1000 km out: world coordinates in double, tiles at their
+  // own origin, the Embree scene relative to a tile's origin.
+  const Eigen::Vector3d O(GetParam(), 0.5 * GetParam(), 250.0);
+  const Eigen::Vector3d sensor = O + Eigen::Vector3d(3.0, 4.0, 1.8);
+  std::vector<scene::Mesh> meshes;
+  // Planes at 1 .. 199 m, each in its own direction (17° apart) and turned 35° from facing
+  // the sensor.
+  const std::vector<double> distances = {1.0, 2.5, 10.0, 30.0, 75.0, 120.0, 160.0, 199.0};
+  const auto bearing = [](std::size_t k) { return (-60.0 + 17.0 * static_cast<double>(k)) * kDeg; };
+  const auto normal = [&](std::size_t k) -> Eigen::Vector3d {
+    const double a = bearing(k) + std::numbers::pi + 35 * kDeg;
+    return Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+  };
+  const auto centre = [&](std::size_t k) -> Eigen::Vector3d {
+    return distances[k] * Eigen::Vector3d(std::cos(bearing(k)), std::sin(bearing(k)), 0.0);
+  };
+  for (std::size_t k = 0; k < distances.size(); ++k)
+    meshes.push_back(square(sensor - O + centre(k), normal(k), 0.1 * distances[k]));
+  scene::Mesh box;
+  box.beginPart(scene::cls::kRock, scene::mat::kRock);
+  scene::addBox(box, (sensor - O + Eigen::Vector3d(-40, -3, -2)).cast<float>(),
+                (sensor - O + Eigen::Vector3d(-36, 5, 3)).cast<float>());
+  meshes.push_back(std::move(box));
+  scene::Mesh ball;
+  ball.beginPart(scene::cls::kVegetation, scene::mat::kLeaves);
+  scene::addBlob(ball, (sensor - O + Eigen::Vector3d(0, -25, 0)).cast<float>(),
+                 Eigen::Vector3f::Constant(2.0f), 4);
+  meshes.push_back(std::move(ball));
+  // A contact wire 6 mm in radius, 5 m above the sensor, along x.
+  scene::Wire wire;
+  wire.radius_m = 0.006f;
+  wire.instance = 77;
+  for (double x : {-60.0, 0.0, 60.0})
+    wire.points.push_back((sensor - O + Eigen::Vector3d(x, 0.0, 5.0)).cast<float>());
+  const auto tile = makeTile(O, std::move(meshes), {wire});
+
+  lidar::RayWorld world;
+  const lidar::RayScene scene = world.scene({tile});
+  EXPECT_EQ(scene.origin(), O);
+
+  std::vector<Eigen::Vector3d> dirs;
+  for (std::size_t k = 0; k < distances.size(); ++k)  // centres of the planes and around
+    for (double a : {-0.05, 0.0, 0.05})
+      dirs.push_back(
+          (centre(k) + a * distances[k] * Eigen::Vector3d(normal(k).y(), -normal(k).x(), 1.0))
+              .normalized());
+  for (double y : {-1.0, 0.0, 2.0, 4.5})  // the box's face x = -36
+    for (double z : {-1.5, 0.0, 2.5})
+      dirs.push_back(Eigen::Vector3d(-39.0, y, z).normalized());
+  for (double a = -0.9; a <= 0.9; a += 0.15)  // the sphere
+    for (double b = -0.9; b <= 0.9; b += 0.3)
+      dirs.push_back(Eigen::Vector3d(a, -25.0, b).normalized());
+  const std::size_t first_wire = dirs.size();
+  for (double x : {-30.0, -5.0, 10.0, 45.0})  // up to the wire, through its axis
+    dirs.push_back(Eigen::Vector3d(x, 0.0, 5.0).normalized());
+
+  std::vector<Ray> rays;
+  for (const auto& d : dirs)
+    rays.push_back({(sensor - O).cast<float>(), d.cast<float>(), 0.5f, 300.0f});
+  std::vector<RayHit> hits(rays.size());
+  scene.intersect(rays, hits);
+
+  double worst = 0.0, worst_wire = 0.0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    // The reference ray is the one Embree got (float direction), from the sensor in double.
+    const Eigen::Vector3d d = rays[i].direction.cast<double>();
+    double truth;
+    if (i >= first_wire) {
+      // The round wire along x at height 5 m: the first root of
+      // (t d_y)² + (t d_z − 5)² = r² (the cylinder through the sensor's plane).
+      const double r = 0.006, A = d.y() * d.y() + d.z() * d.z(), B = -2.0 * 5.0 * d.z(),
+                   C = 25.0 - r * r;
+      truth = (-B - std::sqrt(B * B - 4 * A * C)) / (2 * A);
+      ASSERT_TRUE(hits[i].hit()) << i;
+      EXPECT_EQ(hits[i].cls, scene::cls::kWire);
+      EXPECT_EQ(hits[i].instance, 77u);
+    } else {
+      truth = bruteForce(*tile, sensor, d);
+    }
+    ASSERT_TRUE(std::isfinite(truth)) << i << " " << d.transpose();
+    ASSERT_TRUE(hits[i].hit()) << i;
+    if (i >= first_wire) {
+      // Embree's round-linear-curve intersector is not the exact cylinder: measured up to 3 mm
+      // off across the wire (the range error times the sine of the ray's angle to the wire,
+      // 29 mm along a ray 6° from it). Left open in issue #14: wires as exact cylinders.
+      const double sine = std::sqrt(d.y() * d.y() + d.z() * d.z()) / d.norm();
+      worst_wire = std::max(worst_wire, std::abs(hits[i].range - truth) * sine);
+      continue;
+    }
+    worst = std::max(worst, std::abs(hits[i].range - truth));
+    if (i < 3 * distances.size()) {
+      EXPECT_EQ(hits[i].cls, scene::cls::kBuilding);
+      EXPECT_EQ(hits[i].material, scene::mat::kConcrete);
+      EXPECT_EQ(hits[i].instance, i / 3 + 1);  // each plane its own instance
+      EXPECT_GT(std::abs(hits[i].normal.cast<double>().dot(normal(i / 3))), 1.0 - 1e-6);
+    }
+  }
+  EXPECT_LT(worst, 1e-3) << "worst range error " << worst;
+  EXPECT_LT(worst_wire, 3.5e-3) << "worst error across the wire " << worst_wire;
+}
+
+INSTANTIATE_TEST_SUITE_P(NearAndFar, RaySceneAt, ::testing::Values(0.0, 1.0e6));
+
+TEST(RayScene, InstancedPrototypesCarryTheirObjectsLabelsAndTransform) {
+  const Eigen::Vector3d O(1.0e6, -3.0e5, 10.0);
+  auto proto = std::make_shared<scene::Mesh>();
+  proto->beginPart(scene::cls::kTrunk, scene::mat::kBark);
+  scene::addCylinder(*proto, {0, 0, 0}, {0, 0, 3}, 0.3f, 0.3f, 12);
+  proto->beginPart(scene::cls::kTree, scene::mat::kLeaves);
+  scene::addBlob(*proto, {0, 0, 4}, Eigen::Vector3f(1.5f, 1.5f, 1.8f), 2);
+  const std::shared_ptr<const scene::Mesh> shared = proto;
+  std::vector<scene::Object> objects;
+  for (int k = 0; k < 3; ++k) {
+    const float c = std::cos(0.4f * k), s = std::sin(0.4f * k);
+    Eigen::Matrix3f linear;
+    linear << c, -s, 0, s, c, 0, 0, 0, 1;
+    linear *= 1.0f + 0.2f * k;
+    objects.push_back(scene::Object::place(
+        shared, O + Eigen::Vector3d(20.0 + 10 * k, 5.0 + 8.0 * k * (k == 2 ? -1 : 1), 0.0), linear,
+        1000 + k));
+  }
+  const auto tile = makeTile(O, {}, {}, std::move(objects));
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  EXPECT_EQ(scene.instanceCount(), 4u);  // the tile and three trees
+  const Eigen::Vector3d sensor = O + Eigen::Vector3d(0, 5.0, 1.0);
+  std::vector<Ray> rays;
+  for (const auto& o : tile->objects)
+    for (double z : {1.0, 4.0})  // trunk, crown
+      rays.push_back({(sensor - O).cast<float>(),
+                      (o.position + Eigen::Vector3d(0, 0, z) - sensor).normalized().cast<float>(),
+                      0.1f, 500.0f});
+  std::vector<RayHit> hits(rays.size());
+  scene.intersect(rays, hits);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_TRUE(hits[i].hit());
+    EXPECT_EQ(hits[i].instance, 1000 + i / 2);
+    EXPECT_EQ(hits[i].cls, i % 2 == 0 ? scene::cls::kTrunk : scene::cls::kTree);
+    const double truth = bruteForce(*tile, sensor, rays[i].direction.cast<double>());
+    EXPECT_NEAR(hits[i].range, truth, 1e-3);
+  }
+}
+
+TEST(LidarPresets, ReproduceTheirDatasheetTables) {
+  struct Case {
+    const char* name;
+    const std::vector<double>* elevation;
+    const std::vector<double>* azimuth;
+    double azimuth_sign;
+    int columns_at_10_hz;
+  };
+  const std::vector<double> zeros16(16, 0.0), zeros32(32, 0.0);
+  const Case cases[] = {{"vlp16", &kVlp16Elevation, &zeros16, 1.0, 1808},
+                        {"hdl32", &kHdl32Elevation, &zeros32, 1.0, 2170},
+                        {"hdl64", &kHdl64Elevation, &kHdl64AzimuthCorrection, 1.0, 2083},
+                        {"os1_64", &kOs1Altitude, &kOs1BeamAzimuth, -1.0, 1024}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const lidar::ScanPattern p = lidar::preset(c.name, 10.0);
+    ASSERT_EQ(p.lasers.size(), c.elevation->size());
+    EXPECT_EQ(p.columns, c.columns_at_10_hz);
+    for (std::size_t l = 0; l < p.lasers.size(); ++l) {
+      EXPECT_EQ(p.lasers[l].elevation_deg, (*c.elevation)[l]);
+      EXPECT_EQ(p.lasers[l].azimuth_offset_deg, c.azimuth_sign * (*c.azimuth)[l]);
+      // Ring 0 is the highest laser; rings follow elevation.
+      for (std::size_t m = 0; m < p.lasers.size(); ++m) {
+        if ((*c.elevation)[m] > (*c.elevation)[l]) {
+          EXPECT_LT(p.lasers[m].ring, p.lasers[l].ring);
+        }
+      }
+    }
+    // Column azimuths: 180° at column 0, falling by 360°/W per column (a clockwise head), each
+    // laser turned by its offset and by the head's turn during its firing delay.
+    for (int col : {0, 1, p.columns / 3, p.columns - 1})
+      for (std::size_t l = 0; l < p.lasers.size(); ++l)
+        EXPECT_NEAR(p.azimuthDeg(col, static_cast<int>(l)),
+                    180.0 - 360.0 * col / p.columns - 3600.0 * p.lasers[l].time_offset_s +
+                        c.azimuth_sign * (*c.azimuth)[l],
+                    1e-9);
+  }
+  // The VLP-16 fires its lasers 2.304 µs apart (manual §9.4).
+  const lidar::ScanPattern v = lidar::preset("vlp16");
+  for (std::size_t l = 0; l < 16; ++l)
+    EXPECT_NEAR(v.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l), 1e-12);
+  EXPECT_THROW(lidar::preset("hdl65"), ConfigError);
+}
+
+// A closed room of planes around the sensor: every ray of a uniform pattern hits.
+std::shared_ptr<const scene::Tile> room(const Eigen::Vector3d& O, double half,
+                                        scene::MaterialId mat = scene::mat::kConcrete) {
+  std::vector<scene::Mesh> walls;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double s : {-1.0, 1.0}) {
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      e[axis] = 1.0;
+      walls.push_back(square(s * half * e, -s * e, half * 1.01, scene::cls::kBuilding, mat));
+    }
+  return makeTile(O, std::move(walls));
+}
+
+lidar::LidarParams uniformParams(int channels, int columns) {
+  lidar::LidarParams p;
+  p.pattern = lidar::uniformPattern(channels, 15.0, -25.0, columns, 10.0);
+  p.pattern.range_min_m = 0.5;
+  p.pattern.range_max_m = 200.0;
+  p.range_sigma_m = 0.0;
+  p.motion_distortion = false;
+  return p;
+}
+
+lidar::PoseAt fixedPose(const Eigen::Vector3d& at) {
+  return [at](double) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = at;
+    return T;
+  };
+}
+
+TEST(Scanner, RangeNoiseHasTheConfiguredSigma) {
+  const Eigen::Vector3d O(5.0e5, 5.0e5, 0.0);
+  const auto tile = room(O, 30.0);
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p = uniformParams(64, 2048);
+  const lidar::Scanner clean(p);
+  p.range_sigma_m = 0.05;
+  const lidar::Scanner noisy(p);
+  const RandomStream random(7, "lidar/test");
+  const auto a = clean.scan(scene, fixedPose(O), random, 3);
+  const auto b = noisy.scan(scene, fixedPose(O), random, 3);
+  ASSERT_EQ(a.points.size(), static_cast<std::size_t>(64 * 2048));
+  ASSERT_EQ(b.points.size(), a.points.size());
+  double sum = 0.0, sum2 = 0.0;
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    const double e = b.points[i].range_m - a.points[i].range_m;
+    sum += e;
+    sum2 += e * e;
+  }
+  const double n = static_cast<double>(a.points.size());
+  const double sigma = std::sqrt(sum2 / n - (sum / n) * (sum / n));
+  EXPECT_NEAR(sigma, 0.05, 0.03 * 0.05);
+  EXPECT_NEAR(sum / n, 0.0, 5.0 * 0.05 / std::sqrt(n));
+}
+
+TEST(Scanner, IntensityIsTheClosedFormLambertianBeckmannValue) {
+  // Under a horizontal floor the normal is exact; the closed form is evaluated at each ray's
+  // own (float) direction.
+  for (const scene::MaterialId mat : {scene::mat::kConcrete, scene::mat::kRailHead,
+                                      scene::mat::kGrass, scene::mat::kGalvanisedSteel}) {
+    const Eigen::Vector3d O(0, 0, 0);
+    const auto tile = makeTile(O, {square({0, 0, -2.0}, {0, 0, 1}, 500.0, scene::cls::kRail, mat)});
+    lidar::RayWorld world;
+    const auto scene = world.scene({tile});
+    lidar::LidarParams p = uniformParams(16, 360);
+    p.pattern = lidar::uniformPattern(16, -2.0, -60.0, 360, 10.0);
+    p.pattern.range_max_m = 200.0;
+    for (const auto scale : {lidar::IntensityScale::kUnit, lidar::IntensityScale::kVlp16}) {
+      p.scale = scale;
+      for (const bool falloff : {false, true}) {
+        p.range_falloff = falloff;
+        const lidar::Scanner scanner(p);
+        const auto frame = scanner.scan(scene, fixedPose(O), RandomStream(1, "x"), 0);
+        ASSERT_GT(frame.points.size(), 1000u);
+        const scene::Material& m = scene::material(mat);
+        for (const auto& pt : frame.points) {
+          const Eigen::Vector3d d = pt.xyz.cast<double>().normalized();
+          const double c = std::abs(d.z()), tan2 = (1 - c * c) / (c * c);
+          const double m2 = m.roughness * m.roughness;
+          double r = m.reflectance *
+                     (m.k_d * c + m.k_s * std::exp(-tan2 / m2) / (m2 * c * c * c * c)) /
+                     (m.k_d + m.k_s / m2);
+          if (std::acos(c) > m.max_incidence_rad)
+            r = 0.0;
+          if (falloff)
+            r *= 100.0 / (pt.range_m * pt.range_m);
+          const double expected = scale == lidar::IntensityScale::kUnit ? std::min(1.0, r)
+                                  : r <= 1.0
+                                      ? std::round(100.0 * r)
+                                      : std::min(255.0, std::round(101.0 + 154.0 * (r - 1.0)));
+          ASSERT_NEAR(pt.intensity, expected, 1e-6 * std::max(1.0, expected))
+              << m.name << " at " << std::acos(c) / kDeg << " deg, " << pt.range_m << " m, scale "
+              << static_cast<int>(scale) << ", falloff " << falloff;
+        }
+      }
+    }
+  }
+}
+
+TEST(Scanner, NoReturnBeyondRangeOrPastTheMaximumIncidenceAngle) {
+  const Eigen::Vector3d O(0, 0, 0);
+  lidar::LidarParams p = uniformParams(1, 720);
+  p.pattern = lidar::uniformPattern(1, 0.0, 0.0, 720, 10.0);
+  p.pattern.range_max_m = 120.0;
+  const lidar::Scanner scanner(p);
+  // A wall facing the sensor at 110 m is seen, at 130 m not.
+  for (const double d : {110.0, 130.0}) {
+    const auto tile = makeTile(O, {square({d, 0, 0}, {-1, 0, 0}, 20.0)});
+    lidar::RayWorld world;
+    const auto frame = scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(1, "x"), 0);
+    EXPECT_EQ(frame.points.empty(), d > 120.0);
+    for (const auto& pt : frame.points)
+      EXPECT_LE(pt.range_m, 120.0f);
+  }
+  // Retro-reflective sheeting returns up to 60°: a wall turned 55° is seen, 65° not.
+  for (const double turn : {55.0, 65.0}) {
+    const Eigen::Vector3d n(-std::cos(turn * kDeg), std::sin(turn * kDeg), 0);
+    const auto tile =
+        makeTile(O, {square({10, 0, 0}, n, 0.5, scene::cls::kSignal, scene::mat::kRetroreflector)});
+    lidar::RayWorld world;
+    const auto frame = scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(1, "x"), 0);
+    EXPECT_EQ(frame.points.empty(), turn > 60.0) << turn;
+  }
+}
+
+TEST(Scanner, MotionDistortionShiftsEachColumnByTheDistanceTravelled) {
+  // A sensor running at 30 m/s along x past a wall at y = 10 m: each column is cast from where
+  // the sensor is at its firing time, so its deskewed points lie v·t further along x than the
+  // static frame's, and still on the wall.
+  const Eigen::Vector3d O(2.0e5, 0, 0);
+  const auto tile = makeTile(O, {square({0, 10.0, 0}, {0, -1, 0}, 200.0)});
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p = uniformParams(4, 1000);
+  p.pattern = lidar::uniformPattern(4, 2.0, -2.0, 1000, 10.0);
+  const double v = 30.0;
+  const lidar::PoseAt moving = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = O + Eigen::Vector3d(v * t, 0, 0);
+    return T;
+  };
+  const lidar::Scanner static_scanner(p);
+  p.motion_distortion = true;
+  const lidar::Scanner moving_scanner(p);
+  const auto still = static_scanner.scan(scene, moving, RandomStream(1, "x"), 0);
+  const auto run = moving_scanner.scan(scene, moving, RandomStream(1, "x"), 0);
+  ASSERT_EQ(still.points.size(), run.points.size());
+  ASSERT_GT(run.points.size(), 1000u);
+  double worst_offset = 0.0, worst_wall = 0.0;
+  for (std::size_t i = 0; i < run.points.size(); ++i) {
+    const auto& a = still.points[i];
+    const auto& b = run.points[i];
+    EXPECT_EQ(a.time_s, b.time_s);
+    worst_offset = std::max(worst_offset, std::abs((b.xyz.x() - a.xyz.x()) - v * b.time_s));
+    worst_wall = std::max(worst_wall, std::abs(b.xyz.y() - 10.0));
+    // The raw point is where the sensor measured it, from where it was.
+    EXPECT_NEAR(b.xyz_raw.x() + v * b.time_s, b.xyz.x(), 1e-3);
+  }
+  EXPECT_LT(worst_offset, 1e-3);
+  EXPECT_LT(worst_wall, 1e-3);
+}
+
+TEST(Scanner, AFrameIsTheSameOnOneThreadAndOnTwo) {
+  const Eigen::Vector3d O(1.0e6, 0, 0);
+  const auto tile = room(O, 25.0);
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p = uniformParams(32, 1024);
+  p.range_sigma_m = 0.02;
+  p.dropout = 0.1;
+  p.motion_distortion = true;
+  const lidar::Scanner scanner(p);
+  const auto pose = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = O + Eigen::Vector3d(20.0 * t, 1.0, 0.5);
+    T.linear() = attitude(0.3 * t, 0.0, 0.0);
+    return T;
+  };
+  std::vector<lidar::LidarPoint> one, two;
+  tbb::task_arena(1).execute(
+      [&] { one = scanner.scan(scene, pose, RandomStream(9, "l"), 5).points; });
+  tbb::task_arena(2).execute(
+      [&] { two = scanner.scan(scene, pose, RandomStream(9, "l"), 5).points; });
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_LT(one.size(), static_cast<std::size_t>(32 * 1024));  // dropout took some
+  EXPECT_GT(one.size(), static_cast<std::size_t>(32 * 1024 * 8 / 10));
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    ASSERT_EQ(std::memcmp(one[i].xyz.data(), two[i].xyz.data(), sizeof(float) * 3), 0);
+    ASSERT_EQ(one[i].range_m, two[i].range_m);
+    ASSERT_EQ(one[i].ring, two[i].ring);
+  }
+}
+
+TEST(Scanner, PointsComeRingByRingCounterClockwiseFromTheForwardAxis) {
+  const Eigen::Vector3d O(0, 0, 0);
+  const auto tile = room(O, 20.0);
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  const lidar::Scanner scanner(uniformParams(8, 512));
+  const auto frame = scanner.scan(scene, fixedPose(O), RandomStream(1, "x"), 0);
+  ASSERT_EQ(frame.points.size(), 8u * 512u);
+  // The quadrant rule KITTI tools use splits rings where the azimuth passes +x.
+  int rings = 1;
+  for (std::size_t i = 0; i < frame.points.size(); ++i) {
+    const auto& pt = frame.points[i];
+    EXPECT_EQ(pt.ring, i / 512);
+    if (i == 0)
+      continue;
+    const auto& prev = frame.points[i - 1];
+    if (prev.xyz.x() >= 0 && prev.xyz.y() < 0 && pt.xyz.x() > 0 && pt.xyz.y() >= 0)
+      ++rings;
+    if (i % 512 == 0)
+      continue;
+    const double a0 = std::atan2(prev.xyz.y(), prev.xyz.x()),
+                 a1 = std::atan2(pt.xyz.y(), pt.xyz.x());
+    const double a0p = a0 < 0 ? a0 + 2 * std::numbers::pi : a0;
+    const double a1p = a1 < 0 ? a1 + 2 * std::numbers::pi : a1;
+    EXPECT_GT(a1p, a0p);
+  }
+  EXPECT_EQ(rings, 8);
+  // Ring 0 is the highest beam.
+  EXPECT_GT(frame.points.front().xyz.z(), frame.points.back().xyz.z());
+}
+
+}  // namespace
+}  // namespace trainsim
