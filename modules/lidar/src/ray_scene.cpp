@@ -107,6 +107,15 @@ bool sharedMesh(const scene::Object& o) {
   return o.mesh.use_count() > 1;
 }
 
+// A scene built once and cast into many times: high-quality BVH, robust traversal (no ray slips
+// through an edge shared by two triangles, as terrain has everywhere).
+RTCScene newStaticScene(RTCDevice device) {
+  RTCScene scene = rtcNewScene(device);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  return scene;
+}
+
 }  // namespace
 
 // One tile's own geometry (terrain, rails, sleepers, ballast, structures, wires; with
@@ -260,10 +269,7 @@ struct RayWorld::Impl {
     auto bvh = std::make_shared<TileBvh>();
     bvh->tile = tile;
     RTCDevice d = device.get();
-    bvh->handle.scene = rtcNewScene(d);
-    rtcSetSceneBuildQuality(bvh->handle.scene, RTC_BUILD_QUALITY_HIGH);
-    // Robust traversal: no ray slips through an edge shared by two triangles (terrain).
-    rtcSetSceneFlags(bvh->handle.scene, RTC_SCENE_FLAG_ROBUST);
+    bvh->handle.scene = newStaticScene(d);
     for (const scene::Object& o : tile->objects) {
       if (options.instance_objects && sharedMesh(o))
         continue;
@@ -306,10 +312,7 @@ struct RayWorld::Impl {
     auto bvh = std::make_shared<ProtoBvh>();
     bvh->mesh = mesh;
     RTCDevice d = device.get();
-    bvh->handle.scene = rtcNewScene(d);
-    rtcSetSceneBuildQuality(bvh->handle.scene, RTC_BUILD_QUALITY_HIGH);
-    // Robust traversal: no ray slips through an edge shared by two triangles (terrain).
-    rtcSetSceneFlags(bvh->handle.scene, RTC_SCENE_FLAG_ROBUST);
+    bvh->handle.scene = newStaticScene(d);
     addTriangles(d, bvh->handle.scene, *mesh, Eigen::Vector3d::Zero(), Eigen::Matrix3f::Identity());
     rtcCommitScene(bvh->handle.scene);
     check(d, "building a prototype's BVH");
