@@ -6,12 +6,12 @@
 namespace trainsim::lidar {
 
 double reflectivity(const scene::Material& m, double cos_theta) {
-  if (cos_theta <= 0.0 || cos_theta < std::cos(m.max_incidence_rad))
+  if (cos_theta <= 0.0 || cos_theta < m.cos_max_incidence)
     return 0.0;
   const double c2 = cos_theta * cos_theta;
-  const double tan2 = (1.0 - c2) / c2;
   const double m2 = m.roughness * m.roughness;
-  const double specular = m.k_s * std::exp(-tan2 / m2) / (m2 * c2 * c2);
+  const double specular =
+      m.k_s > 0.0 ? m.k_s * std::exp(-(1.0 - c2) / c2 / m2) / (m2 * c2 * c2) : 0.0;
   return m.reflectance * (m.k_d * cos_theta + specular) / (m.k_d + m.k_s / m2);
 }
 

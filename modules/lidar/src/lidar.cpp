@@ -39,9 +39,9 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
     }
   // KITTI order: per ring, azimuth increasing from just past +x. Azimuth falls by 360°/W per
   // column, so that is the column whose azimuth mod 360° is smallest, then backwards.
-  const std::vector<int> by_ring = p.ringLasers();
+  ring_lasers_ = p.ringLasers();
   const double step = 360.0 / p.columns;
-  for (const int l : by_ring) {
+  for (const int l : ring_lasers_) {
     double a0 = std::fmod(p.azimuthDeg(0, l), 360.0);
     if (a0 < 0.0)
       a0 += 360.0;
@@ -70,16 +70,6 @@ void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3
 Eigen::Isometry3d Scanner::columnPose(const PoseAt& pose, int c,
                                       const Eigen::Isometry3d& frame_pose) const {
   return params_.motion_distortion ? pose(c * params_.pattern.columnPeriod()) : frame_pose;
-}
-
-std::vector<Ray> Scanner::frameRays(const PoseAt& pose, const Eigen::Vector3d& origin) const {
-  const ScanPattern& p = params_.pattern;
-  const std::size_t L = p.lasers.size();
-  std::vector<Ray> rays(static_cast<std::size_t>(p.columns) * L);
-  const Eigen::Isometry3d frame_pose = pose(0.0);
-  for (int c = 0; c < p.columns; ++c)
-    columnRays(c, columnPose(pose, c, frame_pose), origin, &rays[static_cast<std::size_t>(c) * L]);
-  return rays;
 }
 
 LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
@@ -146,10 +136,10 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
 
   LidarFrame out;
   out.rays = static_cast<std::int64_t>(slots.size());
-  const std::vector<int> by_ring = p.ringLasers();
-  for (std::size_t r = 0; r < by_ring.size(); ++r)
+  for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
     for (const int c : order_[r]) {
-      const Slot& s = slots[static_cast<std::size_t>(c) * L + static_cast<std::size_t>(by_ring[r])];
+      const Slot& s =
+          slots[static_cast<std::size_t>(c) * L + static_cast<std::size_t>(ring_lasers_[r])];
       if (s.valid)
         out.points.push_back(s.point);
     }

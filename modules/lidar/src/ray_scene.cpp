@@ -247,22 +247,14 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
   });
 }
 
-void RayScene::intersectRanges(std::span<const Ray> rays, std::span<float> ranges) const {
-  castPackets(impl_->top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
-    ranges[i] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
-                                                           : p.ray.tfar[k];
-  });
-}
-
 struct RayWorld::Impl {
   RayWorldOptions options;
   std::shared_ptr<RTCDeviceTy> device;
-  mutable std::mutex mutex;
+  std::mutex mutex;
   std::map<scene::TileIndex, std::shared_ptr<const TileBvh>> tiles;
   std::list<scene::TileIndex> lru;  // most recent first
   std::map<const scene::Mesh*, std::shared_ptr<const ProtoBvh>> protos;
   std::shared_ptr<const RayScene::Impl> last;
-  std::int64_t tile_builds = 0;
   static constexpr std::size_t kTileCapacity = 32;
 
   std::shared_ptr<const TileBvh> buildTile(const std::shared_ptr<const scene::Tile>& tile) {
@@ -284,7 +276,6 @@ struct RayWorld::Impl {
     }
     rtcCommitScene(bvh->handle.scene);
     check(d, "building a tile's BVH");
-    ++tile_builds;
     return bvh;
   }
 
@@ -332,11 +323,6 @@ RayWorld::RayWorld(RayWorldOptions options) : impl_(std::make_unique<Impl>()) {
 }
 
 RayWorld::~RayWorld() = default;
-
-std::int64_t RayWorld::tileBuilds() const {
-  const std::lock_guard lock(impl_->mutex);
-  return impl_->tile_builds;
-}
 
 RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles) {
   Impl& w = *impl_;

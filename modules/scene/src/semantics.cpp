@@ -70,6 +70,7 @@ const std::vector<Material>& materialTable() {
         m.roughness = j.at("roughness").template get<double>();
         m.max_incidence_rad =
             j.at("max_incidence_deg").template get<double>() * std::numbers::pi / 180.0;
+        m.cos_max_incidence = std::cos(m.max_incidence_rad);
         m.colour = readRgb(j.at("colour"));
         m.texture_contrast = j.at("texture_contrast").template get<double>();
         m.texture_size_m = j.at("texture_size_m").template get<double>();

@@ -37,7 +37,6 @@ struct LidarPoint {
   float range_m = 0.0f;     ///< measured (noisy) range
   float time_s = 0.0f;      ///< firing time after the frame time
   std::uint16_t ring = 0;   ///< 0 = the highest laser
-  std::uint8_t return_index = 0;
   scene::ClassId cls = 0;
   scene::MaterialId material = 0;
   scene::InstanceId instance = 0;
@@ -69,10 +68,6 @@ class Scanner {
                        static_cast<std::size_t>(laser)];
   }
 
-  /// The rays of a frame in firing order (column by column, lasers in firing order), relative
-  /// to `scene_origin`, each from the pose at its column's firing time (or the frame time).
-  std::vector<Ray> frameRays(const PoseAt& pose, const Eigen::Vector3d& scene_origin) const;
-
   /// Casts one frame, columns split across the TBB workers of the calling arena. Random draws
   /// come from `random` keyed by (frame, column), so the frame is the same for any number of
   /// threads.
@@ -87,6 +82,7 @@ class Scanner {
 
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
+  std::vector<int> ring_lasers_;             // the laser of each ring
   std::vector<std::vector<int>> order_;      // per ring: its columns in KITTI order
 };
 

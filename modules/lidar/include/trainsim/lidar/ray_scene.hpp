@@ -44,9 +44,6 @@ class RayScene {
   /// Casts `rays` in packets of 8 (coherent: keep them in scan order) and writes `hits`.
   /// Sets flush-to-zero and denormals-are-zero on the calling thread.
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
-  /// The same traversal with nothing done to the hits but keeping the range: the benchmark's
-  /// reference for what labels and normals cost.
-  void intersectRanges(std::span<const Ray> rays, std::span<float> ranges) const;
   /// Top-level instances (tiles + instanced objects).
   std::size_t instanceCount() const;
 
@@ -79,8 +76,6 @@ class RayWorld {
   /// origin: a pure function of the tiles, so frames cast the same bytes whichever thread or
   /// order made the scene.
   RayScene scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles);
-  /// Tile BVHs built so far (a tile dropped and asked for again is built again).
-  std::int64_t tileBuilds() const;
 
  private:
   struct Impl;

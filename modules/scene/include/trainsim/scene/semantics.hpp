@@ -38,6 +38,7 @@ struct Material {
   double k_d = 1.0, k_s = 0.0;
   double roughness = 1.0;  ///< Beckmann RMS facet slope m
   double max_incidence_rad = 0.0;
+  double cos_max_incidence = 1.0;  ///< its cosine, for the LiDAR's per-return test
   Rgb colour{};
   double texture_contrast = 0.0;
   double texture_size_m = 1.0;
