@@ -1,6 +1,7 @@
 # kill -9 part-way through a run, then --resume: the dataset equals an uninterrupted run's,
 # byte for byte. First the real `trainsim generate` on a 100 km route with tunnels (plan files,
-# times.txt, poses.txt, IMU, GNSS, odometer and balise files, all carrying state); then the run stage on a synthetic trajectory with test sensors that also write
+# times.txt, poses.txt, IMU, GNSS, odometer and balise files, all carrying state); then a short
+# route with a LiDAR; then the run stage on a synthetic trajectory with test sensors that also write
 # per-frame files and append-only CSVs and carry random-walk state across checkpoints.
 source "$(dirname "$0")/lib.sh" "$@"
 
@@ -37,6 +38,41 @@ else
   fail "generate: resumed dataset differs"; head -20 "$WORK/diff" >&2
 fi
 rm -rf "$WORK/gref" "$WORK/gcut"
+
+# The same with a LiDAR: per-scan velodyne, labels and point_info files, lidar.csv, the instance
+# table (carried in the checkpoint) and calib.txt.
+cat >"$WORK/lidar.json" <<'JSON'
+{"seed": 3, "route": {"generator": {"length_m": 600, "station": {"probability": 0.5}}},
+ "dataset": {"frame_period_ns": 500000000},
+ "sensors": {"lidars": [{"model": "vlp16", "columns": 600, "period_ns": 500000000}],
+             "imus": [{}]}}
+JSON
+expect_exit 0 "LiDAR: uninterrupted run" -- "$TRAINSIM" generate "$WORK/lidar.json" \
+  --out "$WORK/lref" --progress none --threads 2
+for attempt in 1 2 3; do
+  rm -rf "$WORK/lcut"
+  "$TRAINSIM" generate "$WORK/lidar.json" --out "$WORK/lcut" --progress none --threads 2 \
+    >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 1 500); do
+    n=$(ls "$WORK/lcut/sequences/00/labels" 2>/dev/null | wc -l || true)
+    [ "$n" -ge 60 ] && break
+    sleep 0.02
+  done
+  kill -9 "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  [ -e "$WORK/lcut/.trainsim/checkpoint.json" ] && [ ! -e "$WORK/lcut/manifest.json" ] && break
+done
+[ -e "$WORK/lcut/.trainsim/checkpoint.json" ] && pass "LiDAR: killed run left a checkpoint" ||
+  fail "LiDAR: no interrupted run to resume"
+expect_exit 0 "LiDAR: resume" -- "$TRAINSIM" generate "$WORK/lidar.json" --out "$WORK/lcut" \
+  --resume --progress none --threads 1
+if diff -r "$WORK/lref" "$WORK/lcut" >"$WORK/diff"; then
+  pass "LiDAR: resumed dataset byte-identical"
+else
+  fail "LiDAR: resumed dataset differs"; head -20 "$WORK/diff" >&2
+fi
+rm -rf "$WORK/lref" "$WORK/lcut"
 
 expect_exit 0 "uninterrupted run" -- "$SYNTHETIC_RUN" "$WORK/ref" --samples 400
 frames_dir="$WORK/cut/sequences/00/noise_frames"

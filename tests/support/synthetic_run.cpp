@@ -28,7 +28,9 @@ int main(int argc, char** argv) {
   app.add_flag("--force", force);
   CLI11_PARSE(app, argc, argv);
   try {
-    const auto scenario = trainsim::sim::loadScenario("");
+    // The schema's defaults (frames every 100 ms), not the showcase scenario.
+    const auto scenario = trainsim::scenario::Scenario::resolve(trainsim::scenario::Json::object(),
+                                                                trainsim::sim::scenarioSchema());
     const auto ts = scenario.get<trainsim::TimeNs>("trajectory.sample_period_ns");
     const trainsim::testing::StraightTrajectory trajectory(ts, samples, 20.0, 0.3);
     std::vector<std::unique_ptr<trainsim::sim::Sensor>> sensors;

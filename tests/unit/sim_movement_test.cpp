@@ -173,7 +173,9 @@ std::vector<std::unique_ptr<Sensor>> testSensors(const scenario::Scenario& sc,
 }
 
 TEST(RunDataset, CancelledThenResumedRunIsByteIdenticalToAnUninterruptedOne) {
-  const scenario::Scenario sc = loadScenario("");
+  // The schema's defaults: frames every 100 ms.
+  const scenario::Scenario sc =
+      scenario::Scenario::resolve(scenario::Json::object(), scenarioSchema());
   const testing::StraightTrajectory traj(10'000'000, 157, 30.0, 1.1);
   const fs::path a = freshDir("resume-a");
   const fs::path b = freshDir("resume-b");

@@ -35,7 +35,9 @@ std::string snapshot(const fs::path& root) {
 }
 
 TEST(RunLoop, RendersOnExactlyTheRequestedNumberOfThreadsWithIdenticalBytes) {
-  const scenario::Scenario sc = loadScenario("");
+  // Frames of 100 ms: 24 of them, enough for every worker.
+  const scenario::Scenario sc = scenario::Scenario::resolve(
+      {{"dataset", {{"frame_period_ns", 100'000'000}}}}, scenarioSchema());
   const TimeNs frame = sc.get<TimeNs>("dataset.frame_period_ns");
   const testing::StraightTrajectory traj(sc.get<TimeNs>("trajectory.sample_period_ns"), 241, 20.0);
   std::string reference;

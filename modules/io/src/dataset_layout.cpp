@@ -39,7 +39,7 @@ std::filesystem::path DatasetLayout::inSequence(std::string_view name) const {
 }
 
 std::vector<std::string> DatasetLayout::sequenceFiles() {
-  return {kTimes, kPoses, kCalib};
+  return {kTimes, kPoses, kCalib, kInstances};
 }
 
 std::vector<std::string> DatasetLayout::ownEntries() {
@@ -64,6 +64,9 @@ std::string DatasetLayout::velodyneFolder(int index) {
 std::string DatasetLayout::labelsFolder(int index) {
   return numbered("labels", index);
 }
+std::string DatasetLayout::pointInfoFolder(int index) {
+  return numbered("point_info", index);
+}
 std::string DatasetLayout::imageFolder(int index) {
   return cameraFolder("image", index);
 }
@@ -84,9 +87,13 @@ std::string DatasetLayout::frameFile(std::string_view folder, std::int64_t frame
 
 nlohmann::json Manifest::toJson() const {
   nlohmann::json list = nlohmann::json::array();
-  for (const ManifestSensor& s : sensors)
-    list.push_back(
-        {{"name", s.name}, {"kind", s.kind}, {"readings", s.readings}, {"files", s.files}});
+  for (const ManifestSensor& s : sensors) {
+    nlohmann::json item = {
+        {"name", s.name}, {"kind", s.kind}, {"readings", s.readings}, {"files", s.files}};
+    if (!s.summary.is_null())
+      item["summary"] = s.summary;
+    list.push_back(std::move(item));
+  }
   return {
       {"format", kFormat},
       {"version", version},
@@ -118,7 +125,8 @@ Manifest Manifest::fromJson(const nlohmann::json& doc, const std::string& source
     for (const nlohmann::json& s : doc.at("sensors"))
       m.sensors.push_back({s.at("name").get<std::string>(), s.at("kind").get<std::string>(),
                            s.at("readings").get<std::int64_t>(),
-                           s.at("files").get<std::vector<std::string>>()});
+                           s.at("files").get<std::vector<std::string>>(),
+                           s.value("summary", nlohmann::json())});
     m.not_simulated = doc.at("not_simulated").get<std::vector<std::string>>();
     return m;
   } catch (const nlohmann::json::exception& e) {

@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -37,21 +38,7 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
       directions_[static_cast<std::size_t>(c) * L + l] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     }
-  // KITTI order: per ring, azimuth increasing from just past +x. Azimuth falls by 360°/W per
-  // column, so that is the column whose azimuth mod 360° is smallest, then backwards.
   ring_lasers_ = p.ringLasers();
-  const double step = 360.0 / p.columns;
-  for (const int l : ring_lasers_) {
-    double a0 = std::fmod(p.azimuthDeg(0, l), 360.0);
-    if (a0 < 0.0)
-      a0 += 360.0;
-    const int first = std::min(p.columns - 1, static_cast<int>(std::floor(a0 / step)));
-    std::vector<int> columns;
-    columns.reserve(static_cast<std::size_t>(p.columns));
-    for (int k = 0; k < p.columns; ++k)
-      columns.push_back(((first - k) % p.columns + p.columns) % p.columns);
-    order_.push_back(std::move(columns));
-  }
 }
 
 void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3d& origin,
@@ -134,15 +121,29 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
     }
   });
 
+  // KITTI order: ring by ring, each by the azimuth of its written coordinates in [0, 2π)
+  // (ties, which only coincident points make, by column).
   LidarFrame out;
   out.rays = static_cast<std::int64_t>(slots.size());
-  for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
-    for (const int c : order_[r]) {
-      const Slot& s =
-          slots[static_cast<std::size_t>(c) * L + static_cast<std::size_t>(ring_lasers_[r])];
-      if (s.valid)
-        out.points.push_back(s.point);
+  std::vector<std::pair<double, int>> ring;
+  ring.reserve(static_cast<std::size_t>(p.columns));
+  for (const int l : ring_lasers_) {
+    ring.clear();
+    for (int c = 0; c < p.columns; ++c) {
+      const Slot& s = slots[static_cast<std::size_t>(c) * L + static_cast<std::size_t>(l)];
+      if (!s.valid)
+        continue;
+      const Eigen::Vector3f& xyz = params_.motion_compensated ? s.point.xyz : s.point.xyz_raw;
+      double a = std::atan2(static_cast<double>(xyz.y()), static_cast<double>(xyz.x()));
+      if (a < 0.0)
+        a += 2.0 * std::numbers::pi;
+      ring.emplace_back(a, c);
     }
+    std::sort(ring.begin(), ring.end());
+    for (const auto& [azimuth, c] : ring)
+      out.points.push_back(
+          slots[static_cast<std::size_t>(c) * L + static_cast<std::size_t>(l)].point);
+  }
   return out;
 }
 

@@ -2,11 +2,16 @@
 
 #include <fmt/format.h>
 
+#include "classes_yaml.hpp"
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/version.hpp"
+#include "trainsim/environment/environment.hpp"
+#include "trainsim/lidar/ray_scene.hpp"
+#include "trainsim/scene/semantics.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/frame_clock.hpp"
+#include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/movement.hpp"
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/sensor_registry.hpp"
@@ -18,7 +23,7 @@ io::Manifest manifest(const scenario::Scenario& scenario, const io::DatasetLayou
                       const Trajectory* trajectory, const GenerateReport& report) {
   io::Manifest m;
   for (const auto& o : report.outputs) {
-    m.sensors.push_back({o.name, o.kind, o.readings, o.files});
+    m.sensors.push_back({o.name, o.kind, o.readings, o.files, o.summary});
     if (o.kind == FrameClock::kKind)
       m.frames = o.readings;
   }
@@ -31,6 +36,19 @@ io::Manifest manifest(const scenario::Scenario& scenario, const io::DatasetLayou
   m.samples = trajectory ? trajectory->sampleCount() : 0;
   m.not_simulated = report.not_run;
   return m;
+}
+
+// Each class's points in the first LiDAR's summary (for classes.yaml's content), by class id.
+std::vector<std::int64_t> firstLidarClassPoints(const GenerateReport& report) {
+  std::vector<std::int64_t> points(scene::classes().size(), 0);
+  for (const auto& o : report.outputs) {
+    if (o.kind != kLidarKind)
+      continue;
+    for (const auto& [name, count] : o.summary.at("class_points").items())
+      points[scene::classId(name)] = count.get<std::int64_t>();
+    break;
+  }
+  return points;
 }
 
 }  // namespace
@@ -51,6 +69,12 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   writer.writeFile(io::DatasetLayout::kScenario, scenario.text());
   if (write_plan)
     write_plan(writer);
+  std::string calib;
+  for (const auto& sensor : sensors)
+    for (const std::string& line : sensor->calibration())
+      calib += line + "\n";
+  if (!calib.empty())
+    writer.writeFile(layout.inSequence(io::DatasetLayout::kCalib), calib);
 
   if (trajectory != nullptr) {
     const TimeNs frame_period = dataset.frame_period_ns;
@@ -65,15 +89,23 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
       std::vector<std::string> files;
       for (const std::string& f : sensors[i]->outputs())
         files.push_back(layout.inSequence(f).generic_string());
-      report.outputs.push_back({sensors[i]->name(), sensors[i]->kind(), run.readings[i], files});
+      report.outputs.push_back(
+          {sensors[i]->name(), sensors[i]->kind(), run.readings[i], files, sensors[i]->summary()});
     }
     report.threads = run.threads;
     report.render_threads = run.render_threads;
     report.samples = trajectory->sampleCount();
   }
+  writer.writeFile(io::DatasetLayout::kClasses,
+                   classesYaml(firstLidarClassPoints(report), layout.sequence()));
   writer.finish(manifest(scenario, layout, trajectory, report).toJson());
   return report;
 }
+
+// Tiles the run's scene stream holds: the windows of the frames in flight (a 120 m LiDAR
+// reaches into up to 9 scene tiles of 252 m; 2 × threads + 1 frames render at once, mostly
+// over the same tiles).
+constexpr std::size_t kSceneStreamTiles = 32;
 
 GenerateReport generate(const scenario::Scenario& scenario, const GenerateOptions& options) {
   // Pipeline stages (docs/REFERENCES.md P1) that are not built yet, from the stage table; the
@@ -88,8 +120,19 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   }
   const CancelScope cancel(options.cancel);
   const std::unique_ptr<Plan> plan = makePlan(scenario);
-  const SensorContext context =
+  SensorContext context =
       makeSensorContext(scenario, plan->trajectory(), &plan->route().route, &plan->layout());
+  // The environment, its scene stream and Embree's world exist only if a sensor needs them.
+  std::shared_ptr<const EnvironmentStage> environment;
+  std::unique_ptr<scene::SceneStream> stream;
+  if (needsScene(scenario.json())) {
+    environment = makeEnvironment(*plan, scenario);
+    stream = environment->environment->stream(kSceneStreamTiles);
+    context.scene = stream.get();
+    context.instances = std::make_shared<InstanceTable>();
+  }
+  if (hasSensors(scenario.json(), "lidars"))
+    context.rays = std::make_shared<lidar::RayWorld>();
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
   return runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
                     [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });

@@ -127,7 +127,7 @@ const std::vector<PipelineStage>& stageTable() {
          "terrain, objects and track assets",
          {seed, terrainSection().key, assetsSection().key, objectsSection().key},
          true},
-        {"lidar", "LiDAR", {}, false},
+        {"lidar", "LiDAR", {}, true},
         {"cameras", "cameras", {}, false},
     };
   }();

@@ -9,6 +9,7 @@ namespace {
 
 constexpr const char* kName = "name";
 constexpr const char* kMount = "mount";
+constexpr const char* kPeriod = "period_ns";
 
 const scenario::Binding<MountParams>& mountBinding() {
   static const scenario::Binding<MountParams> binding = [] {
@@ -38,7 +39,7 @@ scenario::Binding<SensorBasics> sensorBasics(const BasicsSpec& spec) {
                        "the first (_1, _2, …)",
                        spec.files))
       .numberedPerItem();
-  b.integer("period_ns", &SensorBasics::period_ns, "ns", spec.period_description)
+  b.integer(kPeriod, &SensorBasics::period_ns, "ns", spec.period_description)
       .range(static_cast<double>(spec.min_period_ns), static_cast<double>(spec.max_period_ns))
       .multipleOf(samplePeriodPath());
   if (spec.mount_description != nullptr)
@@ -50,6 +51,10 @@ scenario::Binding<SensorBasics> sensorBasics(const BasicsSpec& spec) {
 
 std::string readSensorName(const scenario::Json& item) {
   return item.at(kName).get<std::string>();
+}
+
+TimeNs readSensorPeriod(const scenario::Json& item) {
+  return item.at(kPeriod).get<TimeNs>();
 }
 
 Mount readMount(const scenario::Json& item) {

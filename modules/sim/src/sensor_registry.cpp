@@ -7,7 +7,10 @@
 #include <map>
 
 #include "imu_sensor.hpp"
+#include "lidar_sensor.hpp"
 #include "positioning_sensors.hpp"
+#include "trainsim/sim/config.hpp"
+#include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/schema.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 
@@ -33,7 +36,7 @@ namespace trainsim::sim {
 // The frame clock that writes times.txt and poses.txt is not a registered kind: every
 // dataset has exactly one (frame_clock.hpp).
 namespace {
-constexpr std::array<SensorKind, 4> kSensorKinds = {
+constexpr std::array<SensorKind, 5> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
                &createImu, &checkImu, kImuCsvs},
     SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, &checkGnss,
@@ -42,6 +45,8 @@ constexpr std::array<SensorKind, 4> kSensorKinds = {
                kReadingsCsv},
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
                &declareBaliseReader, &createBaliseReader, &checkBaliseReader, kReadingsCsv},
+    SensorKind{"lidars", "Rotating multi-beam LiDARs (Embree)", &declareLidar, &createLidar,
+               &checkLidar, kReadingsCsv, /*frame_synchronous=*/true},
 };
 
 constexpr const char* kSensors = "sensors";
@@ -63,7 +68,9 @@ std::span<const SensorKind> sensorKinds() {
 
 SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
                                 const track::Route* route, const track::Layout* layout) {
-  return SensorContext{scenario, geodeticAnchor(scenario.json()), trajectory, route, layout};
+  return SensorContext{
+      scenario, geodeticAnchor(scenario.json()), trajectory, route, layout, nullptr, nullptr,
+      nullptr};
 }
 
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {
@@ -72,8 +79,14 @@ std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context)
     const std::string path = fmt::format("{}.{}", kSensors, kind.key);
     const scenario::Json& list = context.scenario.at(path);
     for (std::size_t i = 0; i < list.size(); ++i)
-      sensors.push_back(kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i)}));
+      sensors.push_back(kind.create(
+          SensorSetup{context, list[i], fmt::format("{}[{}]", path, i), static_cast<int>(i)}));
   }
+  if (context.instances)
+    sensors.insert(
+        sensors.begin(),
+        instanceTableSensor(context.instances,
+                            datasetSection().read(context.scenario.json()).frame_period_ns));
   return sensors;
 }
 
@@ -100,6 +113,7 @@ void addSensorsSection(scenario::Schema& schema) {
     kinds.push_back(scenario::array(kind.key, kind.description, kind.declare()).maxItems(16));
   schema.add(scenario::object(kSensors, "Simulated sensors, a list per kind.", std::move(kinds)));
   schema.addCheck(checkSensorNames);
+  schema.addCheck(checkFrameSynchronous);
   schema.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
     for (const SensorKind& kind : sensorKinds()) {
       const scenario::Json& list = resolved.at(kSensors).at(kind.key);
@@ -135,6 +149,36 @@ void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Prob
           problems.push_back({path + ".name", fmt::format("'{}' would write {}, which {} writes",
                                                           name, file, it->second)});
       }
+    }
+  }
+}
+
+bool needsScene(const scenario::Json& resolved) {
+  for (const SensorKind& kind : sensorKinds())
+    if (kind.frame_synchronous && !resolved.at(kSensors).at(kind.key).empty())
+      return true;
+  return false;
+}
+
+bool hasSensors(const scenario::Json& resolved, std::string_view key) {
+  return !resolved.at(kSensors).at(std::string(key)).empty();
+}
+
+void checkFrameSynchronous(const scenario::Json& resolved,
+                           std::vector<scenario::Problem>& problems) {
+  const TimeNs frame = datasetSection().read(resolved).frame_period_ns;
+  for (const SensorKind& kind : sensorKinds()) {
+    if (!kind.frame_synchronous)
+      continue;
+    const scenario::Json& list = resolved.at(kSensors).at(kind.key);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const TimeNs period = readSensorPeriod(list[i]);
+      if (period != frame)
+        problems.push_back({fmt::format("{}.{}[{}].period_ns", kSensors, kind.key, i),
+                            fmt::format("is {} ns but must equal dataset.frame_period_ns ({} ns): "
+                                        "KITTI pairs every scan and image with a line of "
+                                        "times.txt and poses.txt",
+                                        period, frame)});
     }
   }
 }

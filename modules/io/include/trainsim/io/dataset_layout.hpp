@@ -5,7 +5,7 @@
 //
 //   OUT/manifest.json scenario.json railroad.json trajectory.csv design_report.json classes.yaml
 //   OUT/sequences/NN/  times.txt poses.txt calib.txt  <sensor>.csv …
-//                      velodyne/ labels/ (first LiDAR), velodyne_1/ labels_1/ (second), …
+//                      velodyne/ labels/ point_info/ (first LiDAR), velodyne_1/ … (second), …
 //                      image_2/ depth_2/ semantic_2/ instance_2/ (first camera), image_3/ …
 //
 // Paths are relative to the dataset root unless a function says otherwise.
@@ -38,6 +38,8 @@ class DatasetLayout {
   static constexpr const char* kTimes = "times.txt";
   static constexpr const char* kPoses = "poses.txt";
   static constexpr const char* kCalib = "calib.txt";
+  /// The sequence's 16-bit instance ids (the .label files' upper half) and what they are.
+  static constexpr const char* kInstances = "instances.csv";
 
   /// KITTI sequence 0..99 (sequences/00 … sequences/99). Throws ConfigError outside.
   explicit DatasetLayout(int sequence = 0);
@@ -63,6 +65,9 @@ class DatasetLayout {
   /// and labels, labels_1, … (KITTI and SemanticKITTI read the first pair unchanged).
   static std::string velodyneFolder(int index);
   static std::string labelsFolder(int index);
+  /// point_info, point_info_1, …: per point ring, firing time, return index, range, material
+  /// (a folder of its own: SemanticKITTI's tools read every file in velodyne/ as a scan).
+  static std::string pointInfoFolder(int index);
   /// Folders of camera `index` (0 = the first): image_2, image_3, … and depth_N, semantic_N,
   /// instance_N with the same N (KITTI numbers the left colour camera 2).
   static std::string imageFolder(int index);
@@ -84,6 +89,7 @@ struct ManifestSensor {
   std::string kind;
   std::int64_t readings = 0;
   std::vector<std::string> files;  ///< relative to the dataset root; the readings file first
+  nlohmann::json summary;          ///< what the sensor reports about the run (null: nothing)
 };
 
 /// manifest.json: written last, the mark of a complete dataset.

@@ -27,6 +27,9 @@ struct LidarParams {
   /// Each column cast from the pose at its own firing time (a spinning sensor on a moving
   /// train); otherwise every ray from the pose at the frame time.
   bool motion_distortion = true;
+  /// Which coordinates the dataset writes, and so orders each ring by: xyz (deskewed, KITTI
+  /// odometry) or xyz_raw (as measured).
+  bool motion_compensated = true;
 };
 
 /// One return.
@@ -43,8 +46,10 @@ struct LidarPoint {
 };
 
 struct LidarFrame {
-  /// Ring by ring from ring 0 (the highest); within a ring by azimuth counter-clockwise from
-  /// just past the +x axis (KITTI's order, which LOAM-style odometry relies on).
+  /// Ring by ring from ring 0 (the highest); within a ring by the azimuth of the written
+  /// coordinates (LidarParams::motion_compensated), counter-clockwise from the +x axis: KITTI's
+  /// order, in which the community's ring recovery (a new ring where the azimuth crosses +x
+  /// from quadrant 4 to 1) never splits a ring, even where deskewing moves a point across +x.
   std::vector<LidarPoint> points;
   std::int64_t rays = 0;
 };
@@ -83,7 +88,6 @@ class Scanner {
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
   std::vector<int> ring_lasers_;             // the laser of each ring
-  std::vector<std::vector<int>> order_;      // per ring: its columns in KITTI order
 };
 
 }  // namespace trainsim::lidar

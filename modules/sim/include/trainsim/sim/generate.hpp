@@ -32,6 +32,7 @@ struct GenerateReport {
     std::string kind;
     std::int64_t readings;
     std::vector<std::string> files;  ///< relative to the dataset root
+    nlohmann::json summary;          ///< Sensor::summary()
   };
   std::vector<Output> outputs;
   int threads = 0;         ///< worker threads of the run loop

@@ -11,11 +11,18 @@
 #include "trainsim/core/time.hpp"
 #include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/scenario/scenario.hpp"
+#include "trainsim/scene/scene.hpp"
 #include "trainsim/sim/trajectory.hpp"
 #include "trainsim/track/layout.hpp"
 #include "trainsim/track/route.hpp"
 
+namespace trainsim::lidar {
+class RayWorld;
+}
+
 namespace trainsim::sim {
+
+class InstanceTable;
 
 /// What a sensor's render() computed for one reading, handed to its commit(): any movable,
 /// copyable value (a struct of truth values, a point cloud, an image).
@@ -62,6 +69,12 @@ class Sensor {
   virtual nlohmann::json state() const { return nullptr; }
   /// Closes the sensor after the last sample of a complete run.
   virtual void end() {}
+  /// Lines the sensor adds to the sequence's calib.txt ("Tr: …" for the first LiDAR), none by
+  /// default.
+  virtual std::vector<std::string> calibration() const { return {}; }
+  /// What the manifest records about the whole run beyond the reading count (a LiDAR's point
+  /// and class counts); null by default. Valid after the last commit, resume included.
+  virtual nlohmann::json summary() const { return nullptr; }
 };
 
 /// A Sensor whose readings are of type R: implement read(k) (pure) and write(k, R&).
@@ -80,15 +93,20 @@ class SensorOf : public Sensor {
 
 /// What the sensors of one run share, built once per run (sensor_registry.hpp,
 /// makeSensorContext) instead of by each sensor: the scenario, the geodetic anchor, the
-/// trajectory, and the planned route and layout (null when a sensor runs on a synthetic
-/// trajectory). Later the scene joins it. Everything here is immutable during the run, so
-/// render() may read it from any thread.
+/// trajectory, the planned route and layout (null when a sensor runs on a synthetic
+/// trajectory), and what the perception sensors share: the scene stream, Embree's world and the
+/// sequence's instance table (null unless a LiDAR or a camera needs them: a run pays for no
+/// scene it does not use). The scene stream and the ray world are thread-safe, so render() may
+/// use them from any thread; the instance table is for commit() only.
 struct SensorContext {
   const scenario::Scenario& scenario;
   GeodeticAnchor anchor;
   const Trajectory& trajectory;
   const track::Route* route = nullptr;
   const track::Layout* layout = nullptr;
+  scene::SceneStream* scene = nullptr;
+  std::shared_ptr<lidar::RayWorld> rays;
+  std::shared_ptr<InstanceTable> instances;
 };
 
 /// What a sensor factory gets: the run's context, the sensor's own resolved section (e.g.
@@ -97,6 +115,7 @@ struct SensorSetup {
   const SensorContext& context;
   const scenario::Json& config;
   std::string path;
+  int index = 0;  ///< position in its kind's list (the LiDAR's velodyne_N folder, …)
 };
 
 }  // namespace trainsim::sim

@@ -48,6 +48,8 @@ scenario::Binding<SensorBasics> sensorBasics(const BasicsSpec& spec);
 
 /// The name of a resolved sensor item (for checks across sensors and the studio).
 std::string readSensorName(const scenario::Json& item);
+/// The period of a resolved sensor item.
+TimeNs readSensorPeriod(const scenario::Json& item);
 /// The mount of a resolved sensor item of a kind with a mount.
 Mount readMount(const scenario::Json& item);
 

@@ -16,6 +16,7 @@ inline constexpr const char* kImuKind = "imu";
 inline constexpr const char* kGnssKind = "gnss";
 inline constexpr const char* kOdometerKind = "odometer";
 inline constexpr const char* kBaliseReaderKind = "balise_reader";
+inline constexpr const char* kLidarKind = "lidar";
 
 /// One kind of sensor: its scenario declaration and its factory. The scenario holds a list
 /// of sensors of each kind under `sensors.<key>[]` (e.g. `sensors.imus[]`).
@@ -31,6 +32,10 @@ struct SensorKind {
   /// The files a sensor of this kind writes in the sequence folder, with "{}" for its name
   /// ("{}.csv", "{}_truth.csv"); the schema checks that no two sensors share a file.
   std::span<const char* const> files;
+  /// Frame-synchronous kinds (LiDARs, cameras) record one reading per dataset frame: their
+  /// period must equal dataset.frame_period_ns, so KITTI's readers pair reading i with line i
+  /// of times.txt and poses.txt.
+  bool frame_synchronous = false;
 };
 
 /// The registration table (sensor_registry.cpp), in the order sensors are created and run.
@@ -52,6 +57,16 @@ const scenario::Json* findSensorConfig(const scenario::Json& scenario, const std
 
 /// Adds the `sensors` section: an array per kind, and the name check below.
 void addSensorsSection(scenario::Schema& schema);
+
+/// Whether the resolved scenario has a frame-synchronous sensor (a LiDAR or a camera): only
+/// then does the run make the environment and its scene stream.
+bool needsScene(const scenario::Json& resolved);
+/// Whether sensors.<key> lists any sensor.
+bool hasSensors(const scenario::Json& resolved, std::string_view key);
+
+/// Checks that every frame-synchronous sensor's period equals dataset.frame_period_ns.
+void checkFrameSynchronous(const scenario::Json& resolved,
+                           std::vector<scenario::Problem>& problems);
 
 /// Checks sensor names across all kinds: each unique (naming both JSON paths when two clash),
 /// safe as a file name, and no two sensors writing the same file. Appends problems.

@@ -1,0 +1,51 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trainsim/io/dataset_writer.hpp"
+#include "trainsim/scene/semantics.hpp"
+#include "trainsim/sim/sensor.hpp"
+
+namespace trainsim::sim {
+
+/// The sequence's 16-bit instance ids: SemanticKITTI keeps an object's instance in the upper
+/// 16 bits of its label, unique within a sequence, 0 for "stuff". The scene's instance ids are
+/// 64-bit (a pure function of what the object is), so the table numbers them 1, 2, … in the
+/// order the sensors first commit them (sample order, then sensor order: the same for any
+/// thread count), and every perception sensor of the run shares it, so an object has one id in
+/// every LiDAR's labels and every camera's instance image. Each new id is appended to
+/// instances.csv (id, the scene's instance id as objects.csv lists it, the class it was first
+/// seen as: a tree's crown and trunk, a signal's post and head share one id), and the table is
+/// checkpointed, so a resumed run numbers on exactly as the killed one would have.
+///
+/// Past 65535 objects in one sequence the ids run out: further objects share 65535, and the
+/// run says so once.
+class InstanceTable {
+ public:
+  static constexpr std::uint16_t kOverflow = 0xFFFF;
+
+  /// The id of `instance` (a thing of class `cls`); 0 for 0. Call from commit() only.
+  std::uint16_t id(scene::InstanceId instance, scene::ClassId cls);
+  std::size_t size() const { return order_.size(); }
+
+  /// Opens instances.csv; `state` is null for a fresh run.
+  void begin(io::DatasetWriter& writer, const nlohmann::json& state);
+  nlohmann::json state() const;
+
+ private:
+  std::map<scene::InstanceId, std::uint16_t> ids_;
+  std::vector<scene::InstanceId> order_;  // order_[i] has id i + 1
+  io::AppendFile* csv_ = nullptr;
+  bool warned_ = false;
+};
+
+/// The run-loop face of the table (like the frame clock, not a registered kind): opens and
+/// checkpoints it with the sensors; `period` is the frame period.
+std::unique_ptr<Sensor> instanceTableSensor(std::shared_ptr<InstanceTable> table, TimeNs period);
+
+}  // namespace trainsim::sim

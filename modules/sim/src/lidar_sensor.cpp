@@ -1,0 +1,441 @@
+#include "lidar_sensor.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include <Eigen/Geometry>
+
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
+#include "trainsim/lidar/lidar.hpp"
+#include "trainsim/sim/instance_table.hpp"
+#include "trainsim/sim/sensor_params.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
+
+namespace trainsim::sim {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "KITTI .bin and .label files are little-endian; this writer copies memory as is");
+
+namespace units = scenario::units;
+constexpr scenario::Unit kM = units::si("m");
+
+enum class LidarModel { kHdl64, kVlp16, kHdl32, kOs1_64, kUniform };
+constexpr EnumName<LidarModel> kLidarModelNames[] = {{LidarModel::kHdl64, "hdl64"},
+                                                     {LidarModel::kVlp16, "vlp16"},
+                                                     {LidarModel::kHdl32, "hdl32"},
+                                                     {LidarModel::kOs1_64, "os1_64"},
+                                                     {LidarModel::kUniform, "uniform"}};
+constexpr std::span<const EnumName<LidarModel>> enumNames(LidarModel) {
+  return kLidarModelNames;
+}
+
+// What the intensity channel holds.
+enum class IntensityQuantity { kReflectivity, kRaw };
+constexpr EnumName<IntensityQuantity> kIntensityQuantityNames[] = {
+    {IntensityQuantity::kReflectivity, "reflectivity"}, {IntensityQuantity::kRaw, "raw"}};
+constexpr std::span<const EnumName<IntensityQuantity>> enumNames(IntensityQuantity) {
+  return kIntensityQuantityNames;
+}
+
+enum class IntensityScaleName { kUnit, kVlp16 };
+constexpr EnumName<IntensityScaleName> kIntensityScaleNames[] = {
+    {IntensityScaleName::kUnit, "unit"}, {IntensityScaleName::kVlp16, "vlp16"}};
+constexpr std::span<const EnumName<IntensityScaleName>> enumNames(IntensityScaleName) {
+  return kIntensityScaleNames;
+}
+
+struct UniformConfig {
+  int channels = 64;
+  double fov_up_rad = 2.0 * kRadPerDeg;
+  double fov_down_rad = -24.8 * kRadPerDeg;
+};
+
+// sensors.lidars[]
+struct LidarConfig {
+  SensorBasics basics{"lidar", 100'000'000, {Eigen::Vector3d(10.0, 0.0, 4.0)}};
+  LidarModel model = LidarModel::kHdl64;
+  double rotation_hz = 10.0;
+  int columns = 0;
+  UniformConfig uniform;
+  double range_min_m = 0.0, range_max_m = 0.0;  // 0: the device's
+  double range_sigma_m = 0.02;
+  double range_sigma_per_m = 0.0;
+  double dropout = 0.0;
+  double intensity_threshold = 0.0;
+  IntensityQuantity intensity = IntensityQuantity::kReflectivity;
+  IntensityScaleName scale = IntensityScaleName::kUnit;
+  bool motion_distortion = true;
+  bool motion_compensated = true;
+  bool point_info = true;
+};
+
+const scenario::Binding<LidarConfig>& lidarBinding() {
+  static const scenario::Binding<UniformConfig> uniform = [] {
+    scenario::Binding<UniformConfig> b;
+    b.integer("channels", &UniformConfig::channels, "", "Lasers, evenly spaced in elevation")
+        .range(1, 512);
+    b.number("fov_up_deg", &UniformConfig::fov_up_rad, units::kDegree, "Highest laser's elevation")
+        .range(-90, 90);
+    b.number("fov_down_deg", &UniformConfig::fov_down_rad, units::kDegree,
+             "Lowest laser's elevation")
+        .range(-90, 90);
+    b.check([](const UniformConfig& u, const scenario::FieldPaths<UniformConfig>& at,
+               std::vector<scenario::Problem>& out) {
+      if (u.fov_down_rad >= u.fov_up_rad)
+        out.push_back({at(u.fov_down_rad), "must be below " + at.key(u.fov_up_rad)});
+    });
+    return b;
+  }();
+  static const scenario::Binding<LidarConfig> binding = [] {
+    using C = LidarConfig;
+    scenario::Binding<C> b;
+    b.embed(&C::basics,
+            sensorBasics({"<name>.csv (one row per scan) and the velodyne/labels/point_info "
+                          "folders of its position in the list (velodyne, velodyne_1, …)",
+                          10'000'000, 10'000'000'000,
+                          "Scan period: one revolution is recorded every period_ns; it must equal "
+                          "dataset.frame_period_ns (KITTI pairs every scan with a line of "
+                          "times.txt and poses.txt)",
+                          "Pose of the sensor's axes (x forward, y left, z up: KITTI's velodyne "
+                          "frame); the default is the cab roof"}));
+    b.choice("model", &C::model,
+             "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E or Ouster OS1-64 from their "
+             "calibration tables (resources/lidars.json), or uniform (the fields under uniform)");
+    b.number("rotation_hz", &C::rotation_hz, units::si("Hz"),
+             "Spin rate; one revolution must fit in period_ns")
+        .range(1, 40);
+    b.integer("columns", &C::columns, "",
+              "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
+              "HDL-64E at 10 Hz), 2048 for uniform")
+        .range(0, 100000);
+    b.object("uniform", &C::uniform, uniform, "The uniform pattern (model \"uniform\")");
+    b.number("range_min_m", &C::range_min_m, kM, "Shortest range; 0: the device's").range(0, 100);
+    b.number("range_max_m", &C::range_max_m, kM, "Longest range; 0: the device's").range(0, 2000);
+    b.number("range_sigma_m", &C::range_sigma_m, kM, "Gaussian range noise, 1 sigma").range(0, 1);
+    b.number("range_sigma_per_m", &C::range_sigma_per_m, units::si("m/m"),
+             "Range noise growing with range: sigma = range_sigma_m + this * range")
+        .range(0, 0.1);
+    b.number("dropout", &C::dropout, units::kNone, "Probability that a return is lost").range(0, 1);
+    b.number("intensity_threshold", &C::intensity_threshold, units::kNone,
+             "Returns whose reflectivity is below this are lost")
+        .range(0, 10);
+    b.choice("intensity", &C::intensity,
+             "reflectivity: Lambertian-Beckmann backscatter of the material at its incidence "
+             "(calibrated, as Velodyne reports it); raw: the same falling as 1/R^2, equal at 10 m");
+    b.choice("intensity_scale", &C::scale,
+             "unit: float 0..1 (KITTI); vlp16: Velodyne's 0..100 diffuse, 101..255 "
+             "retro-reflectors");
+    b.boolean("motion_distortion", &C::motion_distortion,
+              "Cast each firing from the pose at its own firing time (a spinning sensor on a "
+              "moving train); false: the whole scan from the pose at the scan's start");
+    b.boolean("motion_compensated", &C::motion_compensated,
+              "velodyne/*.bin in the sensor frame at the scan's start (deskewed: KITTI odometry "
+              "and ground truth); false: each point in the sensor frame at its firing (as the "
+              "sensor measures, for pipelines that deskew)");
+    b.boolean("point_info", &C::point_info,
+              "Write point_info/*.bin: per point firing time, range, ring, return index, "
+              "material");
+    b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
+      if (c.basics.period_ns * c.rotation_hz < 1e9 * (1.0 - 1e-12))
+        out.push_back({at(c.rotation_hz), "is too slow: one revolution must fit in period_ns"});
+      if (c.range_max_m > 0.0 && c.range_min_m >= c.range_max_m)
+        out.push_back({at(c.range_min_m), "must be below " + at.key(c.range_max_m)});
+    });
+    return b;
+  }();
+  return binding;
+}
+
+std::string_view presetName(LidarModel m) {
+  switch (m) {
+    case LidarModel::kVlp16:
+      return "vlp16";
+    case LidarModel::kHdl32:
+      return "hdl32";
+    case LidarModel::kOs1_64:
+      return "os1_64";
+    case LidarModel::kHdl64:
+    case LidarModel::kUniform:
+      break;
+  }
+  return "hdl64";
+}
+
+lidar::LidarParams scannerParams(const LidarConfig& c) {
+  lidar::LidarParams p;
+  constexpr int kUniformColumns = 2048;
+  p.pattern =
+      c.model == LidarModel::kUniform
+          ? lidar::uniformPattern(c.uniform.channels, c.uniform.fov_up_rad / kRadPerDeg,
+                                  c.uniform.fov_down_rad / kRadPerDeg,
+                                  c.columns > 0 ? c.columns : kUniformColumns, c.rotation_hz)
+          : lidar::preset(presetName(c.model), c.rotation_hz, c.columns);
+  if (c.range_min_m > 0.0)
+    p.pattern.range_min_m = c.range_min_m;
+  if (c.range_max_m > 0.0)
+    p.pattern.range_max_m = c.range_max_m;
+  p.range_sigma_m = c.range_sigma_m;
+  p.range_sigma_slope = c.range_sigma_per_m;
+  p.dropout = c.dropout;
+  p.intensity_threshold = c.intensity_threshold;
+  p.scale = c.scale == IntensityScaleName::kVlp16 ? lidar::IntensityScale::kVlp16
+                                                  : lidar::IntensityScale::kUnit;
+  p.range_falloff = c.intensity == IntensityQuantity::kRaw;
+  p.motion_distortion = c.motion_distortion;
+  p.motion_compensated = c.motion_compensated;
+  return p;
+}
+
+// The sensor's pose over one scan: exact at knots kKnotNs apart, between them cubic Hermite in
+// position (with the velocity) and slerp in attitude. A train's motion over 1 ms is smooth to
+// far below a micrometre this way, and a 2083-column scan costs ~100 trajectory evaluations
+// instead of one per column.
+class ScanPoses {
+ public:
+  static constexpr TimeNs kKnotNs = 1'000'000;
+
+  ScanPoses(const Trajectory& trajectory, const Eigen::Isometry3d& T_body_sensor, TimeNs t0,
+            double span_s) {
+    // At least two knots, covering [t0, t0 + span].
+    const auto knots =
+        std::max<std::int64_t>(2, static_cast<std::int64_t>(std::ceil(span_s * 1e9 / kKnotNs)) + 1);
+    const Eigen::Vector3d& r = T_body_sensor.translation();
+    for (std::int64_t i = 0; i < knots; ++i) {
+      const TimeNs t = t0 + i * kKnotNs;
+      const TrajectorySample s = trajectory.at(t);
+      const Eigen::Matrix3d R = s.q_world_body.toRotationMatrix();
+      Knot k;
+      k.p = s.p_world + R * r;
+      // Outside the trajectory the train stands at its end (Trajectory::at clamps).
+      const bool inside = t >= 0 && t <= trajectory.endTime();
+      k.v = inside ? Eigen::Vector3d(s.v_world + R * s.w_body.cross(r)) : Eigen::Vector3d::Zero();
+      k.q = s.q_world_body * Eigen::Quaterniond(T_body_sensor.linear());
+      if (!knots_.empty() && knots_.back().q.dot(k.q) < 0.0)
+        k.q.coeffs() = -k.q.coeffs();
+      knots_.push_back(k);
+    }
+  }
+
+  // The sensor's world pose `t` seconds after t0.
+  Eigen::Isometry3d at(double t) const {
+    const double x = std::clamp(t * 1e9 / kKnotNs, 0.0, static_cast<double>(knots_.size() - 1));
+    const auto i = std::min(static_cast<std::size_t>(x), knots_.size() - 2);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const Knot& a = knots_[i];
+    const Knot& b = knots_[i + 1];
+    const double u = x - static_cast<double>(i), h = kKnotNs * 1e-9;
+    const double u2 = u * u, u3 = u2 * u;
+    T.translation() = (2 * u3 - 3 * u2 + 1) * a.p + (u3 - 2 * u2 + u) * h * a.v +
+                      (-2 * u3 + 3 * u2) * b.p + (u3 - u2) * h * b.v;
+    T.linear() = a.q.slerp(u, b.q).toRotationMatrix();
+    return T;
+  }
+
+ private:
+  struct Knot {
+    Eigen::Vector3d p, v;
+    Eigen::Quaterniond q;
+  };
+  std::vector<Knot> knots_;
+};
+
+// One scan's files, made in render(); the labels wait for the instance table in commit().
+struct LidarScan {
+  std::string bin;   // float32 x y z intensity per point
+  std::string info;  // kPointInfoBytes per point
+  std::vector<scene::ClassId> cls;
+  std::vector<scene::InstanceId> instance;
+  std::int64_t rays = 0;
+  std::size_t tiles = 0;
+};
+
+// point_info/*.bin, per point, little-endian, packed: float32 firing time after the scan's
+// start (s), float32 measured range (m), uint16 ring (0 = highest laser), uint8 return index
+// (0: the strongest, or only, return), uint8 material id (resources/materials.json).
+constexpr std::size_t kPointInfoBytes = 12;
+
+template <typename T>
+void put(char*& out, T value) {
+  std::memcpy(out, &value, sizeof value);
+  out += sizeof value;
+}
+
+class LidarSensor final : public SensorOf<LidarScan> {
+ public:
+  LidarSensor(const SensorSetup& setup, const LidarConfig& c)
+      : trajectory_(setup.context.trajectory),
+        scene_(setup.context.scene),
+        rays_(setup.context.rays),
+        instances_(setup.context.instances),
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        index_(setup.index),
+        scanner_(scannerParams(c)),
+        random_(setup.context.scenario.seed(), name_ + ".returns"),
+        motion_compensated_(c.motion_compensated),
+        point_info_(c.point_info) {
+    if (scene_ == nullptr || rays_ == nullptr || instances_ == nullptr)
+      throw RuntimeError(
+          fmt::format("{}: a LiDAR needs the scene (the run did not make it)", setup.path));
+    const Mount mount = c.basics.mount.mount();
+    T_body_sensor_.linear() = mount.r_body_sensor * rotationBodyFromKittiVelodyne();
+    T_body_sensor_.translation() = mount.position_m;
+  }
+
+  std::string name() const override { return name_; }
+  std::string kind() const override { return kLidarKind; }
+  TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override {
+    std::vector<std::string> files = sensorFiles(kReadingsCsv, name_);
+    files.push_back(io::DatasetLayout::velodyneFolder(index_) + "/");
+    files.push_back(io::DatasetLayout::labelsFolder(index_) + "/");
+    if (point_info_)
+      files.push_back(io::DatasetLayout::pointInfoFolder(index_) + "/");
+    return files;
+  }
+
+  std::vector<std::string> calibration() const override {
+    Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+    T_body_cam.linear() = rotationBodyFromKittiCamera();
+    const Eigen::Matrix<double, 3, 4> m = kittiTr(T_body_cam, T_body_sensor_).matrix().topRows<3>();
+    std::string line = index_ == 0 ? "Tr:" : fmt::format("Tr_{}:", index_);
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 4; ++col)
+        fmt::format_to(std::back_inserter(line), " {:.12e}", m(r, col));
+    return {line};
+  }
+
+  void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
+    writer_ = &writer;
+    csv_ = &writer.appendFile(writer.layout().inSequence(outputs().front()));
+    class_points_.assign(scene::classes().size(), 0);
+    if (state.is_null()) {
+      csv_->write("frame,t_ns,points,rays,tiles\n");
+      return;
+    }
+    class_points_ = state.at("class_points").get<std::vector<std::int64_t>>();
+    if (class_points_.size() != scene::classes().size())
+      throw nlohmann::json::type_error::create(302, "class_points has the wrong length", nullptr);
+  }
+
+  nlohmann::json state() const override { return {{"class_points", class_points_}}; }
+
+  nlohmann::json summary() const override {
+    nlohmann::json classes = nlohmann::json::object();
+    std::int64_t total = 0;
+    for (std::size_t c = 0; c < class_points_.size(); ++c) {
+      total += class_points_[c];
+      if (class_points_[c] > 0)
+        classes[scene::classes()[c].name] = class_points_[c];
+    }
+    return {{"points", total}, {"class_points", classes}};
+  }
+
+ private:
+  LidarScan read(std::int64_t k) const override {
+    const TimeNs t0 = k * trajectory_.samplePeriod();
+    const lidar::ScanPattern& pattern = scanner_.params().pattern;
+    const ScanPoses poses(trajectory_, T_body_sensor_, t0, pattern.revolution());
+    // The tiles within range of the sensor wherever it is during the scan.
+    const Eigen::Isometry3d start = poses.at(0.0), end = poses.at(pattern.revolution());
+    const Eigen::Vector3d centre = 0.5 * (start.translation() + end.translation());
+    const double reach =
+        pattern.range_max_m + 0.5 * (end.translation() - start.translation()).norm() + 1.0;
+    const scene::SceneWindow window = scene_->window(centre, reach);
+    const lidar::RayScene scene = rays_->scene(window.tiles);
+    const lidar::LidarFrame frame = scanner_.scan(
+        scene, [&](double t) { return poses.at(t); }, random_,
+        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())));
+
+    LidarScan out;
+    out.rays = frame.rays;
+    out.tiles = window.tiles.size();
+    const std::size_t n = frame.points.size();
+    out.bin.resize(n * 16);
+    if (point_info_)
+      out.info.resize(n * kPointInfoBytes);
+    out.cls.reserve(n);
+    out.instance.reserve(n);
+    char* bin = out.bin.data();
+    char* info = out.info.data();
+    for (const lidar::LidarPoint& p : frame.points) {
+      const Eigen::Vector3f& xyz = motion_compensated_ ? p.xyz : p.xyz_raw;
+      put(bin, xyz.x());
+      put(bin, xyz.y());
+      put(bin, xyz.z());
+      put(bin, p.intensity);
+      if (point_info_) {
+        put(info, p.time_s);
+        put(info, p.range_m);
+        put(info, p.ring);
+        put(info, std::uint8_t{0});
+        put(info, static_cast<std::uint8_t>(p.material));
+      }
+      out.cls.push_back(p.cls);
+      out.instance.push_back(p.instance);
+    }
+    return out;
+  }
+
+  void write(std::int64_t k, LidarScan& scan) override {
+    const std::int64_t frame = k / (period_ / trajectory_.samplePeriod());
+    std::string labels(scan.cls.size() * 4, '\0');
+    char* out = labels.data();
+    for (std::size_t i = 0; i < scan.cls.size(); ++i) {
+      const std::uint32_t id = instances_->id(scan.instance[i], scan.cls[i]);
+      put(out, static_cast<std::uint32_t>(scan.cls[i]) | (id << 16));
+      ++class_points_[scan.cls[i]];
+    }
+    const io::DatasetLayout& layout = writer_->layout();
+    const auto file = [&](const std::string& folder, const char* extension) {
+      return layout.inSequence(io::DatasetLayout::frameFile(folder, frame, extension));
+    };
+    writer_->writeFile(file(io::DatasetLayout::velodyneFolder(index_), "bin"), scan.bin);
+    writer_->writeFile(file(io::DatasetLayout::labelsFolder(index_), "label"), labels);
+    if (point_info_)
+      writer_->writeFile(file(io::DatasetLayout::pointInfoFolder(index_), "bin"), scan.info);
+    csv_->write(fmt::format("{},{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
+                            scan.cls.size(), scan.rays, scan.tiles));
+  }
+
+  const Trajectory& trajectory_;
+  scene::SceneStream* scene_;
+  std::shared_ptr<lidar::RayWorld> rays_;
+  std::shared_ptr<InstanceTable> instances_;
+  std::string name_;
+  TimeNs period_;
+  int index_;
+  Eigen::Isometry3d T_body_sensor_ = Eigen::Isometry3d::Identity();
+  lidar::Scanner scanner_;
+  RandomStream random_;
+  bool motion_compensated_, point_info_;
+  io::DatasetWriter* writer_ = nullptr;
+  io::AppendFile* csv_ = nullptr;
+  std::vector<std::int64_t> class_points_;
+};
+
+}  // namespace
+
+scenario::Param declareLidar() {
+  return lidarBinding().declare(
+      "lidar",
+      "A rotating multi-beam LiDAR cast into the scene with Embree: KITTI velodyne/*.bin "
+      "(float32 x y z intensity, ring by ring), SemanticKITTI labels/*.label (class | instance "
+      "<< 16) and per-point point_info/*.bin, one file each per scan.");
+}
+
+void checkLidar(const scenario::Json& item, const std::string& path,
+                std::vector<scenario::Problem>& problems) {
+  lidarBinding().problems(lidarBinding().read(item), path, problems);
+}
+
+std::unique_ptr<Sensor> createLidar(const SensorSetup& setup) {
+  return std::make_unique<LidarSensor>(setup, lidarBinding().read(setup.config));
+}
+
+}  // namespace trainsim::sim

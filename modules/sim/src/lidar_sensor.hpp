@@ -1,0 +1,17 @@
+#pragma once
+
+#include <memory>
+
+#include "trainsim/scenario/param.hpp"
+#include "trainsim/scenario/schema.hpp"
+#include "trainsim/sim/sensor.hpp"
+
+namespace trainsim::sim {
+
+/// sensors.lidars[]: a rotating multi-beam LiDAR on a body mount, cast into the scene.
+scenario::Param declareLidar();
+std::unique_ptr<Sensor> createLidar(const SensorSetup& setup);
+void checkLidar(const scenario::Json& item, const std::string& path,
+                std::vector<scenario::Problem>& problems);
+
+}  // namespace trainsim::sim
