@@ -6,13 +6,16 @@
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <pmmintrin.h>
+#include <tbb/task_arena.h>
 #include <xmmintrin.h>
 #include <Eigen/LU>
 
 #include <algorithm>
-#include <list>
+#include <atomic>
+#include <deque>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 
 #include "trainsim/core/error.hpp"
@@ -105,6 +108,13 @@ void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire) {
 
 bool sharedMesh(const scene::Object& o) {
   return o.mesh.use_count() > 1;
+}
+
+// Builds a scene's BVH. Embree builds with TBB tasks; the build runs under the world's lock,
+// so while it waits this thread must not pick up another frame's task that would ask for the
+// lock again: the build is isolated.
+void commit(RTCScene scene) {
+  tbb::this_task_arena::isolate([&] { rtcCommitScene(scene); });
 }
 
 // A scene built once and cast into many times: high-quality BVH, robust traversal (no ray slips
@@ -209,6 +219,53 @@ std::size_t RayScene::instanceCount() const {
   return impl_->instances.size();
 }
 
+void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Traversal mode) const {
+  RTCScene top = impl_->top.scene;
+  if (mode == Traversal::kPacket8) {
+    castPackets(top, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
+      ranges[i] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                      ? std::numeric_limits<float>::infinity()
+                      : p.ray.tfar[k];
+    });
+    return;
+  }
+  setFlushToZero();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  std::vector<RTCRayHit> hits(mode == Traversal::kStream ? rays.size() : 1);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    RTCRayHit& h = hits[mode == Traversal::kStream ? i : 0];
+    const Ray& r = rays[i];
+    h.ray = {r.origin.x(),
+             r.origin.y(),
+             r.origin.z(),
+             r.t_near,
+             r.direction.x(),
+             r.direction.y(),
+             r.direction.z(),
+             0.0f,
+             r.t_far,
+             0xFFFFFFFFu,
+             0,
+             0};
+    h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    if (mode == Traversal::kSingle) {
+      rtcIntersect1(top, &context, &h);
+      ranges[i] = h.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
+                                                          : h.ray.tfar;
+    }
+  }
+  if (mode != Traversal::kStream)
+    return;
+  rtcIntersect1M(top, &context, hits.data(), static_cast<unsigned>(hits.size()), sizeof(RTCRayHit));
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    ranges[i] = hits[i].hit.geomID == RTC_INVALID_GEOMETRY_ID
+                    ? std::numeric_limits<float>::infinity()
+                    : hits[i].ray.tfar;
+}
+
 void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
   const Impl& s = *impl_;
   castPackets(s.top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
@@ -250,12 +307,28 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
 struct RayWorld::Impl {
   RayWorldOptions options;
   std::shared_ptr<RTCDeviceTy> device;
+  std::atomic<std::int64_t> bytes{0};  // Embree's memory monitor
   std::mutex mutex;
   std::map<scene::TileIndex, std::shared_ptr<const TileBvh>> tiles;
-  std::list<scene::TileIndex> lru;  // most recent first
+  std::deque<std::vector<scene::TileIndex>> recent;  // the tiles of the last scenes, newest last
   std::map<const scene::Mesh*, std::shared_ptr<const ProtoBvh>> protos;
   std::shared_ptr<const RayScene::Impl> last;
-  static constexpr std::size_t kTileCapacity = 32;
+  // Scenes whose tiles keep their BVHs: more than the frames a run has in flight at once
+  // (2 × threads + 1), so a tile is built once while the train passes it. Memory follows what
+  // lies within reach, not the route; scenes still in use keep their own BVHs alive.
+  static constexpr std::size_t kRecentScenes = 8;
+
+  // Drops the BVHs of tiles in none of the recent scenes.
+  void forget(const std::vector<scene::TileIndex>& key) {
+    recent.push_back(key);
+    if (recent.size() <= kRecentScenes)
+      return;
+    recent.pop_front();
+    std::set<scene::TileIndex> keep;
+    for (const auto& k : recent)
+      keep.insert(k.begin(), k.end());
+    std::erase_if(tiles, [&](const auto& entry) { return !keep.contains(entry.first); });
+  }
 
   std::shared_ptr<const TileBvh> buildTile(const std::shared_ptr<const scene::Tile>& tile) {
     auto bvh = std::make_shared<TileBvh>();
@@ -274,25 +347,16 @@ struct RayWorld::Impl {
       addWire(d, bvh->handle.scene, w);
       bvh->geoms.push_back({nullptr, w.cls, w.material, w.instance});
     }
-    rtcCommitScene(bvh->handle.scene);
+    commit(bvh->handle.scene);
     check(d, "building a tile's BVH");
     return bvh;
   }
 
   std::shared_ptr<const TileBvh> tile(const std::shared_ptr<const scene::Tile>& t) {
-    auto it = tiles.find(t->index);
-    if (it != tiles.end()) {
-      lru.remove(t->index);
-      lru.push_front(t->index);
+    if (auto it = tiles.find(t->index); it != tiles.end())
       return it->second;
-    }
     auto bvh = buildTile(t);
     tiles.emplace(t->index, bvh);
-    lru.push_front(t->index);
-    while (lru.size() > kTileCapacity) {
-      tiles.erase(lru.back());
-      lru.pop_back();
-    }
     return bvh;
   }
 
@@ -305,7 +369,7 @@ struct RayWorld::Impl {
     RTCDevice d = device.get();
     bvh->handle.scene = newStaticScene(d);
     addTriangles(d, bvh->handle.scene, *mesh, Eigen::Vector3d::Zero(), Eigen::Matrix3f::Identity());
-    rtcCommitScene(bvh->handle.scene);
+    commit(bvh->handle.scene);
     check(d, "building a prototype's BVH");
     protos.emplace(mesh.get(), bvh);
     return bvh;
@@ -314,15 +378,29 @@ struct RayWorld::Impl {
 
 RayWorld::RayWorld(RayWorldOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
-  RTCDevice device = rtcNewDevice(nullptr);
+  // Embree picks its kernels by the CPU, and each ISA rounds differently in the last bit of a
+  // float: capping the ISA makes the bytes the same on every machine that has it.
+  const std::string config = "max_isa=" + options.max_isa;
+  RTCDevice device = rtcNewDevice(config.c_str());
   if (device == nullptr)
     throw RuntimeError(fmt::format("Embree: cannot create a device (error {})",
                                    static_cast<int>(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(device, &onEmbreeError, nullptr);
+  rtcSetDeviceMemoryMonitorFunction(
+      device,
+      [](void* user, ssize_t bytes, bool /*post*/) {
+        static_cast<std::atomic<std::int64_t>*>(user)->fetch_add(bytes);
+        return true;
+      },
+      &impl_->bytes);
   impl_->device = std::shared_ptr<RTCDeviceTy>(device, [](RTCDevice d) { rtcReleaseDevice(d); });
 }
 
 RayWorld::~RayWorld() = default;
+
+std::int64_t RayWorld::bytes() const {
+  return impl_->bytes.load();
+}
 
 RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles) {
   Impl& w = *impl_;
@@ -368,9 +446,10 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
         attach(proto->handle.scene, o.linear, o.position, {nullptr, proto, o.instance, {}});
       }
   }
-  rtcCommitScene(s->top.scene);
+  commit(s->top.scene);
   check(d, "building the frame's top-level scene");
   w.last = s;
+  w.forget(key);
   return RayScene(std::move(s));
 }
 

@@ -103,9 +103,9 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
 }
 
 // Tiles the run's scene stream holds: the windows of the frames in flight (a 120 m LiDAR
-// reaches into up to 9 scene tiles of 252 m; 2 × threads + 1 frames render at once, mostly
-// over the same tiles).
-constexpr std::size_t kSceneStreamTiles = 32;
+// reaches into 4 scene tiles of 252 m, 9 at most; 2 × threads + 1 frames render at once,
+// mostly over the same tiles).
+constexpr std::size_t kSceneStreamTiles = 16;
 
 GenerateReport generate(const scenario::Scenario& scenario, const GenerateOptions& options) {
   // Pipeline stages (docs/REFERENCES.md P1) that are not built yet, from the stage table; the

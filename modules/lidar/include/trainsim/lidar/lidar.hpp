@@ -3,6 +3,8 @@
 // scene, with range noise, dropout and Lambertian-Beckmann intensity, in KITTI point order.
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +64,9 @@ using PoseAt = std::function<Eigen::Isometry3d(double t)>;
 class Scanner {
  public:
   explicit Scanner(LidarParams params);
+  ~Scanner();
+  Scanner(const Scanner&) = delete;
+  Scanner& operator=(const Scanner&) = delete;
   const LidarParams& params() const { return params_; }
   std::int64_t raysPerFrame() const {
     return static_cast<std::int64_t>(params_.pattern.columns) *
@@ -78,6 +83,9 @@ class Scanner {
   /// threads.
   LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                   std::uint64_t frame) const;
+  /// The rays scan() casts, in the same order (column by column, each column's lasers in
+  /// firing order): for the benchmark's raw traversal of exactly the same rays.
+  std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
 
  private:
   void columnRays(int column, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
@@ -88,6 +96,12 @@ class Scanner {
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
   std::vector<int> ring_lasers_;             // the laser of each ring
+
+  struct Scratch;
+  std::unique_ptr<Scratch> acquire() const;
+  void release(std::unique_ptr<Scratch> scratch) const;
+  mutable std::mutex pool_mutex_;
+  mutable std::vector<std::unique_ptr<Scratch>> pool_;  // one per frame scanned at once
 };
 
 }  // namespace trainsim::lidar

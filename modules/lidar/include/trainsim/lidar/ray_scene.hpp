@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -47,6 +48,13 @@ class RayScene {
   /// Top-level instances (tiles + instanced objects).
   std::size_t instanceCount() const;
 
+  /// How the benchmark's raw traversal hands rays to Embree.
+  enum class Traversal { kPacket8, kSingle, kStream };
+  /// The raw traversal: Embree's closest hits of `rays`, ranges only (infinity for a miss), no
+  /// labels, no normals: the baseline a frame's cost is measured against (bench_lidar).
+  void traverse(std::span<const Ray> rays, std::span<float> ranges,
+                Traversal mode = Traversal::kPacket8) const;
+
   struct Impl;
 
  private:
@@ -59,6 +67,10 @@ struct RayWorldOptions {
   /// Shared prototypes as Embree instances (stored once); false bakes every object's triangles
   /// into its tile's BVH (the benchmark's "flattened" comparison).
   bool instance_objects = true;
+  /// The widest instruction set Embree may use. Each ISA rounds the last bit of a float its own
+  /// way, so the default, AVX2 (every x86-64 CPU since 2015), gives the same bytes on every
+  /// machine that has it, AVX-512 ones included; "avx512" is for the benchmark's comparison.
+  std::string max_isa = "avx2";
 };
 
 /// The Embree device and the BVHs built so far: one per tile (kept while the tile is in one of
@@ -76,6 +88,8 @@ class RayWorld {
   /// origin: a pure function of the tiles, so frames cast the same bytes whichever thread or
   /// order made the scene.
   RayScene scene(const std::vector<std::shared_ptr<const scene::Tile>>& tiles);
+  /// Bytes Embree holds now (its memory monitor): the BVHs and geometry buffers.
+  std::int64_t bytes() const;
 
  private:
   struct Impl;
