@@ -273,6 +273,51 @@ int main(int argc, char** argv) {
                  c.single_ms, c.stream_ms, c.frame_ms, c.frame_ms / c.raw_ms);
     }
   }
+  // Beam divergence: sub-rays per pulse against wire returns and time (2.25 mrad, strongest
+  // return), on frames where the catenary is within reach.
+  fmt::print(
+      "\nSub-rays per pulse (beam divergence 2.25 mrad, strongest return; 3 frames along the "
+      "default route):\n\n"
+      "| sub-rays | rays a frame | frame ms | x 1 sub-ray | wire points a frame | points a frame "
+      "|\n"
+      "|---|---|---|---|---|---|\n");
+  {
+    auto stream = def.stage->environment->stream(16);
+    lidar::RayWorld world;
+    double base_ms = 0.0;
+    for (const int n : {1, 4, 16, 64}) {
+      lidar::LidarParams p = scanner.params();
+      p.sub_rays = n;
+      p.divergence_rad = 0.00225;
+      const lidar::Scanner divergent(p);
+      double frame_ms = 0.0, wires = 0.0, points = 0.0;
+      int frames = 0;
+      const sim::Trajectory& trajectory = def.plan->trajectory();
+      for (const TimeNs t : {40'000'000'000, 120'000'000'000, 200'000'000'000}) {
+        const lidar::PoseAt pose = revolution(trajectory, t);
+        const lidar::RayScene scene =
+            world.scene(stream->window(pose(0.05).translation(), 125.0).tiles);
+        const RandomStream random(1, "bench");
+        std::vector<double> times;
+        lidar::LidarFrame f;
+        for (int r = 0; r < (n >= 16 ? 3 : kRepeats); ++r) {
+          const auto t0 = Clock::now();
+          arena.execute([&] { f = divergent.scan(scene, pose, random, 0); });
+          times.push_back(ms(t0));
+        }
+        frame_ms += median(times);
+        for (const auto& pt : f.points)
+          wires += pt.cls == scene::cls::kWire;
+        points += static_cast<double>(f.points.size());
+        ++frames;
+      }
+      frame_ms /= frames;
+      if (n == 1)
+        base_ms = frame_ms;
+      fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.0f} |\n", n, divergent.raysPerFrame(),
+                 frame_ms, frame_ms / base_ms, wires / frames, points / frames);
+    }
+  }
   if (quick)
     return 0;
 

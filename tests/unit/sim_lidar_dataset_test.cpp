@@ -431,7 +431,7 @@ TEST(LidarDataset, EveryPointLiesWhereAnIndependentRayCastFindsTheScene) {
     for (std::size_t i = 0; i < cloud.size(); i += cloud.size() / 40) {
       const scene::ClassId cls = labels[i] & 0xFFFF;
       if (cls == scene::cls::kWire)
-        continue;  // wires are round curves, not triangles
+        continue;  // wires are capsules, not triangles (checked exactly in unit_lidar)
       const Eigen::Vector3d world = T_world_velo * cloud[i].xyz.cast<double>();
       // The firing position: the mount on the body at the firing time.
       const TimeNs fired = t0 + static_cast<TimeNs>(std::llround(info[i].time_s * 1e9));

@@ -85,22 +85,108 @@ void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
   rtcReleaseGeometry(g);
 }
 
-// A wire as a round linear curve (cones between its points, spheres at the joints).
-void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire) {
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), wire.points.size()));
-  for (std::size_t i = 0; i < wire.points.size(); ++i) {
-    v[4 * i] = wire.points[i].x();
-    v[4 * i + 1] = wire.points[i].y();
-    v[4 * i + 2] = wire.points[i].z();
-    v[4 * i + 3] = wire.radius_m;
+// A wire's segments as exact capsules (a cylinder of the wire's radius between two points,
+// spheres at the ends), intersected in double by a user geometry: Embree's round linear curve
+// approximates the cylinder and is off by millimetres across a 6 mm wire at a grazing angle,
+// which is the wire's whole size (sensors-reference.md 5; the footprint test needs it exact).
+struct WireData {
+  std::vector<Eigen::Vector3d> points;
+  double radius = 0.0;
+};
+
+void wireBounds(const RTCBoundsFunctionArguments* args) {
+  const auto& w = *static_cast<const WireData*>(args->geometryUserPtr);
+  const Eigen::Vector3d& a = w.points[args->primID];
+  const Eigen::Vector3d& b = w.points[args->primID + 1];
+  // Widened by a float's rounding so the box holds the double capsule.
+  const double pad = w.radius + 1e-6 * (1.0 + a.cwiseAbs().maxCoeff() + b.cwiseAbs().maxCoeff());
+  const Eigen::Vector3d lo = a.cwiseMin(b).array() - pad, hi = a.cwiseMax(b).array() + pad;
+  RTCBounds& box = *args->bounds_o;
+  box.lower_x = static_cast<float>(lo.x());
+  box.lower_y = static_cast<float>(lo.y());
+  box.lower_z = static_cast<float>(lo.z());
+  box.upper_x = static_cast<float>(hi.x());
+  box.upper_y = static_cast<float>(hi.y());
+  box.upper_z = static_cast<float>(hi.z());
+}
+
+// The entry distance of the ray o + t d (d unit) into the capsule a–b of radius r, with the
+// outward normal there; NaN for a miss.
+double capsuleHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
+                  const Eigen::Vector3d& b, double r, Eigen::Vector3d& normal) {
+  constexpr double kMiss = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Vector3d ba = b - a, oa = o - a;
+  const double baba = ba.dot(ba), bard = ba.dot(d), baoa = ba.dot(oa), rdoa = d.dot(oa),
+               oaoa = oa.dot(oa);
+  const double qa = baba - bard * bard, qb = baba * rdoa - baoa * bard,
+               qc = baba * oaoa - baoa * baoa - r * r * baba;
+  const double h = qb * qb - qa * qc;
+  if (h < 0.0)
+    return kMiss;
+  if (qa > 0.0) {
+    // The cylinder's near root, in the form without cancellation: qc / (−qb + √h).
+    const double root = -qb + std::sqrt(h);
+    const double t = root != 0.0 ? qc / root : -qb / qa;
+    const double y = baoa + t * bard;
+    if (y > 0.0 && y < baba) {
+      normal = (oa + t * d - ba * (y / baba)) / r;
+      return t;
+    }
   }
-  const std::size_t segments = wire.points.size() - 1;
-  auto* s = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments));
-  for (std::size_t i = 0; i < segments; ++i)
-    s[i] = static_cast<unsigned>(i);
+  // The end sphere the ray meets first (the body missed).
+  const double y = baoa + (qa > 0.0 ? (-qb - std::sqrt(h)) / qa : 0.0) * bard;
+  const Eigen::Vector3d centre = y <= 0.0 ? a : b;
+  const Eigen::Vector3d oc = o - centre;
+  const double sb = d.dot(oc), sc = oc.dot(oc) - r * r, sh = sb * sb - sc;
+  if (sh < 0.0)
+    return kMiss;
+  const double t = sc / (-sb + std::sqrt(sh));
+  normal = (oc + t * d) / r;
+  return t;
+}
+
+void wireIntersect(const RTCIntersectFunctionNArguments* args) {
+  const auto& w = *static_cast<const WireData*>(args->geometryUserPtr);
+  const Eigen::Vector3d& a = w.points[args->primID];
+  const Eigen::Vector3d& b = w.points[args->primID + 1];
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  const unsigned N = args->N;
+  for (unsigned i = 0; i < N; ++i) {
+    if (args->valid[i] == 0)
+      continue;
+    const Eigen::Vector3d o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i),
+                            RTCRayN_org_z(ray, N, i));
+    Eigen::Vector3d d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+    const double scale = d.norm();  // 1 unless an instance scales the ray
+    d /= scale;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    const double t = capsuleHit(o, d, a, b, w.radius, n) / scale;
+    if (!(t >= RTCRayN_tnear(ray, N, i) && t <= RTCRayN_tfar(ray, N, i)))
+      continue;
+    RTCRayN_tfar(ray, N, i) = static_cast<float>(t);
+    RTCHitN_Ng_x(hit, N, i) = static_cast<float>(n.x());
+    RTCHitN_Ng_y(hit, N, i) = static_cast<float>(n.y());
+    RTCHitN_Ng_z(hit, N, i) = static_cast<float>(n.z());
+    RTCHitN_u(hit, N, i) = 0.0f;
+    RTCHitN_v(hit, N, i) = 0.0f;
+    RTCHitN_primID(hit, N, i) = args->primID;
+    RTCHitN_geomID(hit, N, i) = args->geomID;
+    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+      RTCHitN_instID(hit, N, i, l) = args->context->instID[l];
+  }
+}
+
+// Adds `wire` to `scene` as a user geometry of exact capsules; `data` keeps its points.
+void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire, WireData& data) {
+  for (const Eigen::Vector3f& p : wire.points)
+    data.points.push_back(p.cast<double>());
+  data.radius = wire.radius_m;
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(wire.points.size() - 1));
+  rtcSetGeometryUserData(g, &data);
+  rtcSetGeometryBoundsFunction(g, &wireBounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, &wireIntersect);
   rtcCommitGeometry(g);
   rtcAttachGeometry(scene, g);
   rtcReleaseGeometry(g);
@@ -132,8 +218,9 @@ RTCScene newStaticScene(RTCDevice device) {
 // flattening also its objects), relative to the tile's origin.
 struct TileBvh {
   std::shared_ptr<const scene::Tile> tile;
-  SceneHandle handle;
-  std::vector<GeomInfo> geoms;  // by geomID
+  std::vector<std::unique_ptr<WireData>> wires;  // the user geometries' data
+  SceneHandle handle;                            // released before the wires' data
+  std::vector<GeomInfo> geoms;                   // by geomID
 };
 
 // A shared prototype's mesh, relative to its foot.
@@ -344,7 +431,8 @@ struct RayWorld::Impl {
     for (const scene::Wire& w : tile->wires) {
       if (w.points.size() < 2)
         continue;
-      addWire(d, bvh->handle.scene, w);
+      bvh->wires.push_back(std::make_unique<WireData>());
+      addWire(d, bvh->handle.scene, w, *bvh->wires.back());
       bvh->geoms.push_back({nullptr, w.cls, w.material, w.instance});
     }
     commit(bvh->handle.scene);

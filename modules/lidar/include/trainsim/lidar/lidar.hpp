@@ -32,6 +32,18 @@ struct LidarParams {
   /// Which coordinates the dataset writes, and so orders each ring by: xyz (deskewed, KITTI
   /// odometry) or xyz_raw (as measured).
   bool motion_compensated = true;
+
+  /// Beam divergence: each pulse is `sub_rays` rays spread evenly (a sunflower pattern, equal
+  /// energy each) over its footprint, a cone of full angle `divergence_rad`; 1 is a single ray
+  /// along the beam's axis. Sub-ray hits less than `echo_separation_m` apart in range form one
+  /// echo, so a pulse half on a wire and half on the wall behind returns two.
+  int sub_rays = 1;
+  double divergence_rad = 0.003;
+  double echo_separation_m = 0.3;
+  /// Which echoes a pulse reports (as Velodyne's return modes): the strongest (received power
+  /// ∝ reflectivity / range²), the last, or both (dual; one point when they are the same echo).
+  enum class Returns { kStrongest, kLast, kDual };
+  Returns returns = Returns::kStrongest;
 };
 
 /// One return.
@@ -42,6 +54,12 @@ struct LidarPoint {
   float range_m = 0.0f;     ///< measured (noisy) range
   float time_s = 0.0f;      ///< firing time after the frame time
   std::uint16_t ring = 0;   ///< 0 = the highest laser
+  /// 0: the strongest (or last, or only) return; 1: the last of a dual-return pulse.
+  std::uint8_t return_index = 0;
+  /// The share of the pulse's energy in this echo (1 without divergence): a thin wire in the
+  /// footprint returns a fraction, and a fainter point (the intensity is the echo's
+  /// footprint-weighted reflectivity).
+  float coverage = 1.0f;
   scene::ClassId cls = 0;
   scene::MaterialId material = 0;
   scene::InstanceId instance = 0;
@@ -68,10 +86,14 @@ class Scanner {
   Scanner(const Scanner&) = delete;
   Scanner& operator=(const Scanner&) = delete;
   const LidarParams& params() const { return params_; }
-  std::int64_t raysPerFrame() const {
+  /// Pulses (column × laser) and rays (pulses × sub-rays) of a frame.
+  std::int64_t pulsesPerFrame() const {
     return static_cast<std::int64_t>(params_.pattern.columns) *
            static_cast<std::int64_t>(params_.pattern.lasers.size());
   }
+  std::int64_t raysPerFrame() const { return pulsesPerFrame() * params_.sub_rays; }
+  /// Returns a pulse can report: 2 in dual mode, else 1.
+  int returnsPerPulse() const { return params_.returns == LidarParams::Returns::kDual ? 2 : 1; }
   /// Direction of laser l's ray in column c, sensor frame, unit.
   const Eigen::Vector3d& direction(int column, int laser) const {
     return directions_[static_cast<std::size_t>(column) * params_.pattern.lasers.size() +
@@ -84,7 +106,8 @@ class Scanner {
   LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                   std::uint64_t frame) const;
   /// The rays scan() casts, in the same order (column by column, each column's lasers in
-  /// firing order): for the benchmark's raw traversal of exactly the same rays.
+  /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
+  /// rays.
   std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
 
  private:
@@ -95,6 +118,7 @@ class Scanner {
 
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
+  std::vector<Eigen::Vector2d> footprint_;   // sub-ray offsets (rad) across and along the beam
   std::vector<int> ring_lasers_;             // the laser of each ring
 
   struct Scratch;

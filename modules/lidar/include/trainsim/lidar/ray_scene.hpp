@@ -35,7 +35,8 @@ struct RayHit {
 
 /// The scene a frame's rays are cast against: the tiles within the sensor's reach, each tile's
 /// own geometry one BVH (built once per tile and instanced), shared prototypes (trees, rocks,
-/// signals) one BVH each, instanced per object, wires as round linear curves. Everything is
+/// signals) one BVH each, instanced per object, wires as exact capsules (a user geometry
+/// intersected in double). Everything is
 /// placed relative to origin() in float, transforms computed in double, so accuracy does not
 /// depend on the distance from the scenario origin. Immutable, thread-safe to cast into.
 class RayScene {

@@ -76,8 +76,8 @@ void addBlob(Mesh& mesh, const Eigen::Vector3f& centre, const Eigen::Vector3f& r
 std::size_t blobVertexCount(int subdivisions);
 
 /// A polyline with a radius: contact and messenger wires, droppers. Kept as curves so the LiDAR
-/// can intersect round curves and the exporter can draw tubes; points relative to the tile's
-/// origin.
+/// can intersect them as exact cylinders and the exporter can draw tubes; points relative to
+/// the tile's origin.
 struct Wire {
   std::vector<Eigen::Vector3f> points;
   float radius_m = 0.006f;
