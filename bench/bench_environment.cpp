@@ -11,6 +11,7 @@
 #include <cstring>
 #include <string>
 
+#include "bench_world.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/scenario/scenario.hpp"
 #include "trainsim/sim/plan.hpp"
@@ -26,20 +27,8 @@ double seconds(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-struct World {
-  scenario::Scenario scenario;
-  std::unique_ptr<sim::Plan> plan;
-  std::shared_ptr<const sim::EnvironmentStage> stage;
-};
-
-World makeWorld(double length_m) {
-  scenario::Json input = scenario::Json::parse(sim::defaultScenarioText());
-  input["route"]["generator"]["length_m"] = length_m;
-  World w{sim::resolveScenario(input, "", "bench"), nullptr, nullptr};
-  w.plan = sim::makePlan(w.scenario);
-  w.stage = sim::makeEnvironment(*w.plan, w.scenario);
-  return w;
-}
+using bench::makeWorld;
+using bench::World;
 
 struct Walk {
   std::size_t tiles_made = 0;

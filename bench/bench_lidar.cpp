@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include "bench_world.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/lidar/lidar.hpp"
 #include "trainsim/scenario/scenario.hpp"
@@ -41,21 +42,8 @@ constexpr int kThreads = 2;
 constexpr int kRepeats = 7;
 const Eigen::Vector3d kMount(10.0, 0.0, 4.0);  // the default scenario's LiDAR
 
-struct World {
-  scenario::Scenario scenario;
-  std::unique_ptr<sim::Plan> plan;
-  std::shared_ptr<const sim::EnvironmentStage> stage;
-};
-
-World makeWorld(double length_m) {
-  scenario::Json input = scenario::Json::parse(sim::defaultScenarioText());
-  if (length_m > 0.0)
-    input["route"]["generator"]["length_m"] = length_m;
-  World w{sim::resolveScenario(input, "", "bench"), nullptr, nullptr};
-  w.plan = sim::makePlan(w.scenario);
-  w.stage = sim::makeEnvironment(*w.plan, w.scenario);
-  return w;
-}
+using bench::makeWorld;
+using bench::World;
 
 Eigen::Isometry3d sensorPose(const sim::Trajectory& trajectory, TimeNs t) {
   const sim::TrajectorySample s = trajectory.at(t);

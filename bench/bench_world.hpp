@@ -1,0 +1,29 @@
+#pragma once
+// The default scenario's world for the benchmarks: its plan and its environment, with the
+// route's length changed when asked.
+#include <memory>
+
+#include "trainsim/scenario/scenario.hpp"
+#include "trainsim/sim/plan.hpp"
+#include "trainsim/sim/schema.hpp"
+
+namespace trainsim::bench {
+
+struct World {
+  scenario::Scenario scenario;
+  std::unique_ptr<sim::Plan> plan;
+  std::shared_ptr<const sim::EnvironmentStage> stage;
+};
+
+/// The default scenario with a generated route of `length_m` (0: its own 6 km).
+inline World makeWorld(double length_m) {
+  scenario::Json input = scenario::Json::parse(sim::defaultScenarioText());
+  if (length_m > 0.0)
+    input["route"]["generator"]["length_m"] = length_m;
+  World w{sim::resolveScenario(input, "", "bench"), nullptr, nullptr};
+  w.plan = sim::makePlan(w.scenario);
+  w.stage = sim::makeEnvironment(*w.plan, w.scenario);
+  return w;
+}
+
+}  // namespace trainsim::bench
