@@ -212,7 +212,15 @@ int main(int argc, char** argv) {
     const auto t0 = Clock::now();
     for (int i = 0; i < 300; ++i)
       arena.execute([&] { scanner.scan(scene, pose, random, 0); });
-    fmt::print("{:.2f} ms a frame\n", ms(t0) / 300);
+    const double frame_ms = ms(t0) / 300;
+    const std::vector<lidar::Ray> rays = scanner.rays(scene, pose);
+    double raw_ms = 0.0;
+    for (int i = 0; i < 100; ++i)
+      raw_ms += rawTraversal(arena, scene, rays, scanner.params().pattern.lasers.size(),
+                             lidar::RayScene::Traversal::kPacket8) /
+                100;
+    fmt::print("{:.2f} ms a frame, raw traversal {:.2f} ms, ratio {:.3f}\n", frame_ms, raw_ms,
+               frame_ms / raw_ms);
     return 0;
   }
 

@@ -37,6 +37,9 @@ if(TRAINSIM_BUILD_STUDIO)
        RenderingAnnotation RenderingCore RenderingFreeType RenderingOpenGL2)
 endif()
 find_package(VTK 9.1 REQUIRED COMPONENTS ${TRAINSIM_VTK_COMPONENTS})
+# PCL 1.13: LiDAR scans as PCD files (io) and the tests' read-back. Its config needs MPI's C
+# component too; only its libraries are used (not PCL_DEFINITIONS, which would set the ISA).
+find_package(PCL 1.13 REQUIRED COMPONENTS common io)
 
 # The studio's Qt 5 and QCustomPlot, found here so the GUI tests see the same targets.
 if(TRAINSIM_BUILD_STUDIO)

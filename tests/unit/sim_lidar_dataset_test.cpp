@@ -3,7 +3,8 @@
 // uint32 class | instance << 16, calib.txt Tr, poses.txt, times.txt), the point_info side files,
 // instances.csv and classes.yaml. Every sampled point is put back into the world through
 // poses.txt and Tr alone and checked against an independent double-precision brute-force ray
-// cast into the same scene; the whole dataset is byte-identical on 1 and 2 threads.
+// cast into the same scene; the whole dataset is byte-identical on 1 and 2 threads. PCL reads
+// the PCD copies back to the same points, labels, rings and times.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +19,11 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/common/io.h>
+#include <pcl/conversions.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
 #include <Eigen/Geometry>
 
 #include "trainsim/core/frames.hpp"
@@ -45,6 +51,7 @@ scenario::Json lidarScenario() {
                {"period_ns", 2'000'000'000},
                {"columns", 900},
                {"range_sigma_m", 0.0},
+               {"pcd", true},
                {"mount",
                 {{"x_m", kMountX},
                  {"z_m", kMountZ},
@@ -452,6 +459,50 @@ TEST(LidarDataset, EveryPointLiesWhereAnIndependentRayCastFindsTheScene) {
   EXPECT_GE(same_class, checked * 97 / 100);
   std::printf("checked %d points: %d within 1 mm, %d of the same class, worst %.4f m\n", checked,
               within, same_class, worst);
+}
+
+// A field of a PCL cloud read through PCL's own field table.
+template <typename T>
+T pclField(const pcl::PCLPointCloud2& cloud, const char* name, std::size_t point) {
+  const int f = pcl::getFieldIndex(cloud, name);
+  EXPECT_GE(f, 0) << name;
+  T value{};
+  std::memcpy(&value, cloud.data.data() + point * cloud.point_step + cloud.fields[f].offset,
+              sizeof value);
+  return value;
+}
+
+TEST(LidarDataset, PclReadsThePcdFilesAsTheKittiFiles) {
+  const std::int64_t n = frames();
+  for (std::int64_t f = 0; f < n; f += 7) {
+    const fs::path pcd = frameFile("pcd", f, "pcd");
+    pcl::PCLPointCloud2 cloud;
+    ASSERT_EQ(pcl::io::loadPCDFile(pcd.string(), cloud), 0) << pcd;
+    const auto kitti = readVelodyne(frameFile("velodyne", f, "bin"));
+    const auto labels = readLabels(frameFile("labels", f, "label"));
+    const auto info = readPointInfo(frameFile("point_info", f, "bin"));
+    ASSERT_EQ(cloud.width * cloud.height, kitti.size());
+    const std::map<std::string, std::uint8_t> types = {
+        {"x", pcl::PCLPointField::FLOAT32},   {"y", pcl::PCLPointField::FLOAT32},
+        {"z", pcl::PCLPointField::FLOAT32},   {"intensity", pcl::PCLPointField::FLOAT32},
+        {"ring", pcl::PCLPointField::UINT16}, {"time", pcl::PCLPointField::FLOAT32},
+        {"label", pcl::PCLPointField::UINT32}};
+    ASSERT_EQ(cloud.fields.size(), types.size());
+    for (const pcl::PCLPointField& field : cloud.fields)
+      EXPECT_EQ(types.at(field.name), field.datatype) << field.name;
+    // PCL's own point types take the fields they know by name.
+    pcl::PointCloud<pcl::PointXYZI> xyzi;
+    pcl::PointCloud<pcl::PointXYZL> xyzl;
+    pcl::fromPCLPointCloud2(cloud, xyzi);
+    pcl::fromPCLPointCloud2(cloud, xyzl);
+    for (std::size_t i = 0; i < kitti.size(); ++i) {
+      ASSERT_EQ(xyzi[i].getVector3fMap(), kitti[i].xyz) << pcd << " point " << i;
+      ASSERT_EQ(xyzi[i].intensity, kitti[i].intensity);
+      ASSERT_EQ(xyzl[i].label, labels[i]);
+      ASSERT_EQ(pclField<std::uint16_t>(cloud, "ring", i), info[i].ring);
+      ASSERT_EQ(pclField<float>(cloud, "time", i), info[i].time_s);
+    }
+  }
 }
 
 TEST(LidarDataset, SameBytesOnOneAndTwoThreads) {

@@ -67,6 +67,9 @@ std::string DatasetLayout::labelsFolder(int index) {
 std::string DatasetLayout::pointInfoFolder(int index) {
   return numbered("point_info", index);
 }
+std::string DatasetLayout::pcdFolder(int index) {
+  return numbered("pcd", index);
+}
 std::string DatasetLayout::imageFolder(int index) {
   return cameraFolder("image", index);
 }

@@ -10,6 +10,7 @@
 
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/io/pcd.hpp"
 #include "trainsim/lidar/lidar.hpp"
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/sensor_params.hpp"
@@ -80,6 +81,7 @@ struct LidarConfig {
   bool motion_distortion = true;
   bool motion_compensated = true;
   bool point_info = true;
+  bool pcd = false;
   int sub_rays = 1;
   double divergence_rad = 0.00225;
   double echo_separation_m = 0.3;
@@ -170,6 +172,10 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.boolean("point_info", &C::point_info,
               "Write point_info/*.bin: per point firing time, range, ring, return index, "
               "material");
+    b.boolean("pcd", &C::pcd,
+              "Also write each scan as pcd/NNNNNN.pcd through PCL (binary_compressed; fields x y "
+              "z intensity ring time label, the label as in labels/*.label), for PCL, Open3D, "
+              "CloudCompare and ROS tools");
     b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
       if (c.basics.period_ns * c.rotation_hz < 1e9 * (1.0 - 1e-12))
         out.push_back({at(c.rotation_hz), "is too slow: one revolution must fit in period_ns"});
@@ -286,6 +292,7 @@ struct LidarScan {
   std::string info;  // kPointInfoBytes per point
   std::vector<scene::ClassId> cls;
   std::vector<scene::InstanceId> instance;
+  std::vector<io::PcdPoint> pcd;  // labels filled in commit()
   std::int64_t rays = 0;
   std::size_t tiles = 0;
 };
@@ -315,7 +322,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
         scanner_(scannerParams(c)),
         random_(setup.context.scenario.seed(), name_ + ".returns"),
         motion_compensated_(c.motion_compensated),
-        point_info_(c.point_info) {
+        point_info_(c.point_info),
+        pcd_(c.pcd) {
     if (scene_ == nullptr || rays_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
           fmt::format("{}: a LiDAR needs the scene (the run did not make it)", setup.path));
@@ -333,6 +341,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
     files.push_back(io::DatasetLayout::labelsFolder(index_) + "/");
     if (point_info_)
       files.push_back(io::DatasetLayout::pointInfoFolder(index_) + "/");
+    if (pcd_)
+      files.push_back(io::DatasetLayout::pcdFolder(index_) + "/");
     return files;
   }
 
@@ -398,6 +408,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
       out.info.resize(n * kPointInfoBytes);
     out.cls.reserve(n);
     out.instance.reserve(n);
+    if (pcd_)
+      out.pcd.reserve(n);
     char* bin = out.bin.data();
     char* info = out.info.data();
     for (const lidar::LidarPoint& p : frame.points) {
@@ -415,6 +427,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
       }
       out.cls.push_back(p.cls);
       out.instance.push_back(p.instance);
+      if (pcd_)
+        out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, p.time_s, 0});
     }
     return out;
   }
@@ -425,7 +439,10 @@ class LidarSensor final : public SensorOf<LidarScan> {
     char* out = labels.data();
     for (std::size_t i = 0; i < scan.cls.size(); ++i) {
       const std::uint32_t id = instances_->id(scan.instance[i], scan.cls[i]);
-      put(out, static_cast<std::uint32_t>(scan.cls[i]) | (id << 16));
+      const std::uint32_t label = static_cast<std::uint32_t>(scan.cls[i]) | (id << 16);
+      put(out, label);
+      if (pcd_)
+        scan.pcd[i].label = label;
       ++class_points_[scan.cls[i]];
     }
     const io::DatasetLayout& layout = writer_->layout();
@@ -436,6 +453,9 @@ class LidarSensor final : public SensorOf<LidarScan> {
     writer_->writeFile(file(io::DatasetLayout::labelsFolder(index_), "label"), labels);
     if (point_info_)
       writer_->writeFile(file(io::DatasetLayout::pointInfoFolder(index_), "bin"), scan.info);
+    if (pcd_)
+      writer_->writeFile(file(io::DatasetLayout::pcdFolder(index_), "pcd"),
+                         io::encodePcd(scan.pcd));
     csv_->write(fmt::format("{},{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
                             scan.cls.size(), scan.rays, scan.tiles));
   }
@@ -450,7 +470,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   Eigen::Isometry3d T_body_sensor_ = Eigen::Isometry3d::Identity();
   lidar::Scanner scanner_;
   RandomStream random_;
-  bool motion_compensated_, point_info_;
+  bool motion_compensated_, point_info_, pcd_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
   std::vector<std::int64_t> class_points_;

@@ -68,6 +68,7 @@ class DatasetLayout {
   /// point_info, point_info_1, …: per point ring, firing time, return index, range, material
   /// (a folder of its own: SemanticKITTI's tools read every file in velodyne/ as a scan).
   static std::string pointInfoFolder(int index);
+  static std::string pcdFolder(int index);
   /// Folders of camera `index` (0 = the first): image_2, image_3, … and depth_N, semantic_N,
   /// instance_N with the same N (KITTI numbers the left colour camera 2).
   static std::string imageFolder(int index);

@@ -1,0 +1,25 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace trainsim::io {
+
+/// One LiDAR return as PCL's point cloud file has it: the fields of Velodyne's ROS driver
+/// (x y z intensity ring time, the PointXYZIRT that LIO-SAM and friends read) and PCL's
+/// `label` (as pcl::PointXYZL), here SemanticKITTI's class | instance << 16.
+struct PcdPoint {
+  float x = 0.0f, y = 0.0f, z = 0.0f;
+  float intensity = 0.0f;
+  std::uint16_t ring = 0;  ///< 0 = the highest laser
+  float time = 0.0f;       ///< firing time after the scan's start, s
+  std::uint32_t label = 0;
+};
+
+/// A PCD file (PCL 1.13's writer, binary_compressed: LZF per field, which PCL, Open3D and
+/// CloudCompare read) of `points`, unorganised (height 1), viewpoint at the sensor. Throws
+/// RuntimeError if PCL fails.
+std::string encodePcd(std::span<const PcdPoint> points);
+
+}  // namespace trainsim::io
