@@ -267,6 +267,58 @@ TEST(RayScene, InstancedPrototypesCarryTheirObjectsLabelsAndTransform) {
   }
 }
 
+// A bumpy height field as terrain::terrainMesh makes one (Mesh::grid_columns), cast into as
+// triangles and as an Embree grid: the same surface, label and normal, to float rounding, and
+// both within a millimetre of the double brute force over the mesh's triangles.
+TEST(RayScene, HeightFieldsAsEmbreeGridsAreTheSameSurfaceAsTheirTriangles) {
+  const Eigen::Vector3d O(1.0e6, 2.0e5, 120.0);
+  constexpr int kW = 41, kH = 33;
+  scene::Mesh field;
+  for (int r = 0; r < kH; ++r)
+    for (int c = 0; c < kW; ++c)
+      field.addVertex(Eigen::Vector3f(2.0f * c, 2.0f * r,
+                                      1.5f * std::sin(0.3f * c) * std::cos(0.23f * r) + 0.1f * c));
+  field.beginPart(scene::cls::kTerrain, scene::mat::kGrass);
+  for (int r = 0; r + 1 < kH; ++r)
+    for (int c = 0; c + 1 < kW; ++c) {
+      const auto v = static_cast<std::uint32_t>(r * kW + c);
+      field.addQuad(v + 1, v + kW + 1, v + kW, v);
+    }
+  field.grid_columns = kW;
+  const auto tile = makeTile(O, {field});
+  lidar::RayWorld triangles, grids({true, "avx2", true});
+  const auto a = triangles.scene({tile});
+  const auto b = grids.scene({tile});
+  std::vector<Ray> rays;
+  const Eigen::Vector3d sensor(40.0, 30.0, 8.0);
+  for (int i = 0; i < 2000; ++i) {
+    const double az = 0.0314 * i, el = -0.08 - 0.6 * (i % 97) / 97.0;
+    const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    rays.push_back({sensor.cast<float>(), d.cast<float>(), 0.1f, 300.0f});
+  }
+  std::vector<RayHit> ha(rays.size()), hb(rays.size());
+  a.intersect(rays, ha);
+  b.intersect(rays, hb);
+  int hits = 0;
+  double worst = 0.0, worst_truth = 0.0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(ha[i].hit(), hb[i].hit()) << i;
+    if (!ha[i].hit())
+      continue;
+    ++hits;
+    worst = std::max(worst, std::abs(static_cast<double>(ha[i].range - hb[i].range)));
+    const double truth = bruteForce(*tile, O + sensor, rays[i].direction.cast<double>());
+    worst_truth = std::max(worst_truth, std::abs(hb[i].range - truth));
+    EXPECT_EQ(hb[i].cls, scene::cls::kTerrain);
+    EXPECT_EQ(hb[i].material, scene::mat::kGrass);
+    EXPECT_EQ(hb[i].instance, ha[i].instance);
+    EXPECT_GT(ha[i].normal.dot(hb[i].normal), 0.9999f) << i;
+  }
+  EXPECT_GT(hits, 1500);
+  EXPECT_LT(worst, 1e-4) << "grid against triangles";
+  EXPECT_LT(worst_truth, 1e-3) << "grid against the double brute force";
+}
+
 TEST(LidarPresets, ReproduceTheirDatasheetTables) {
   struct Case {
     const char* name;

@@ -85,6 +85,35 @@ void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
   rtcReleaseGeometry(g);
 }
 
+// A height field (Mesh::grid_columns) as one Embree grid: the vertices and a grid record, no
+// triangles; Embree splits each cell along the diagonal the mesh's triangles use. A hit's primID
+// is the grid's (0), so it takes the mesh's only part.
+void addGrid(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
+             const Eigen::Vector3d& offset) {
+  const std::size_t n = mesh.vertices.size(), width = mesh.grid_columns;
+  if (width < 2 || n % width != 0 || n / width < 2 || width > 32767 || n / width > 32767 ||
+      mesh.parts.size() != 1)
+    throw RuntimeError("Embree grid: a height field must be 2..32767 vertices a side, one part");
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_GRID);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = offset + mesh.vertices[i].cast<double>();
+    v[3 * i] = static_cast<float>(p.x());
+    v[3 * i + 1] = static_cast<float>(p.y());
+    v[3 * i + 2] = static_cast<float>(p.z());
+  }
+  auto* grid = static_cast<RTCGrid*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid), 1));
+  grid->startVertexID = 0;
+  grid->stride = static_cast<unsigned>(width);
+  grid->width = static_cast<unsigned short>(width);
+  grid->height = static_cast<unsigned short>(n / width);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+}
+
 // A wire's segments as exact capsules (a cylinder of the wire's radius between two points,
 // spheres at the ends), intersected in double by a user geometry: Embree's round linear curve
 // approximates the cylinder and is off by millimetres across a 6 mm wire at a grazing angle,
@@ -425,7 +454,10 @@ struct RayWorld::Impl {
     for (const scene::Object& o : tile->objects) {
       if (options.instance_objects && sharedMesh(o))
         continue;
-      addTriangles(d, bvh->handle.scene, *o.mesh, o.position - tile->origin, o.linear);
+      if (options.terrain_grids && o.mesh->grid_columns > 0 && o.linear.isIdentity(0.0f))
+        addGrid(d, bvh->handle.scene, *o.mesh, o.position - tile->origin);
+      else
+        addTriangles(d, bvh->handle.scene, *o.mesh, o.position - tile->origin, o.linear);
       bvh->geoms.push_back({o.mesh.get(), 0, 0, o.instance});
     }
     for (const scene::Wire& w : tile->wires) {

@@ -173,7 +173,7 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
               "Write point_info/*.bin: per point firing time, range, ring, return index, "
               "material");
     b.boolean("pcd", &C::pcd,
-              "Also write each scan as pcd/NNNNNN.pcd through PCL (binary_compressed; fields x y "
+              "Also write each scan as pcd/NNNNNN.pcd through PCL (binary PCD v0.7; fields x y "
               "z intensity ring time label, the label as in labels/*.label), for PCL, Open3D, "
               "CloudCompare and ROS tools");
     b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {

@@ -363,8 +363,10 @@ scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
     for (int c = 0; c + 1 < n; ++c) {
       const auto v = static_cast<std::uint32_t>(r * n + c);
       const auto un = static_cast<std::uint32_t>(n);
-      mesh.addQuad(v, v + 1, v + un + 1, v + un);
+      // Split along (c+1, r)–(c, r+1), as Embree splits a grid's cells (Mesh::grid_columns).
+      mesh.addQuad(v + 1, v + un + 1, v + un, v);
     }
+  mesh.grid_columns = static_cast<std::uint32_t>(n);
   return mesh;
 }
 

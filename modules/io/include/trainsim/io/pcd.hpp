@@ -17,9 +17,9 @@ struct PcdPoint {
   std::uint32_t label = 0;
 };
 
-/// A PCD file (PCL 1.13's writer, binary_compressed: LZF per field, which PCL, Open3D and
-/// CloudCompare read) of `points`, unorganised (height 1), viewpoint at the sensor. Throws
-/// RuntimeError if PCL fails.
+/// A PCD v0.7 file of `points` (header from PCL 1.13's writer, `DATA binary`, 26 bytes a point
+/// packed in the field order above), unorganised (height 1), viewpoint at the sensor: PCL,
+/// Open3D and CloudCompare read it. Throws RuntimeError if PCL fails.
 std::string encodePcd(std::span<const PcdPoint> points);
 
 }  // namespace trainsim::io

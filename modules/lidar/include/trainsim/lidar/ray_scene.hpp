@@ -72,6 +72,9 @@ struct RayWorldOptions {
   /// way, so the default, AVX2 (every x86-64 CPU since 2015), gives the same bytes on every
   /// machine that has it, AVX-512 ones included; "avx512" is for the benchmark's comparison.
   std::string max_isa = "avx2";
+  /// Height fields (scene::Mesh::grid_columns: the full-resolution terrain) as Embree grid
+  /// geometry, which stores only the vertices, instead of triangles; the same surface.
+  bool terrain_grids = false;
 };
 
 /// The Embree device and the BVHs built so far: one per tile (kept while the tile is in one of

@@ -46,6 +46,10 @@ struct Mesh {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<MeshPart> parts;
+  /// > 0 for a height field: the vertices are a row-major grid this many columns wide, each
+  /// cell split along its (x+1, y)–(x, y+1) diagonal, one part (the full-resolution terrain).
+  /// The LiDAR may hand it to Embree as grid geometry (RayWorldOptions::terrain_grids).
+  std::uint32_t grid_columns = 0;
 
   /// Starts a part: the triangles added from now on carry (cls, material) until the next part.
   void beginPart(ClassId cls, MaterialId material);

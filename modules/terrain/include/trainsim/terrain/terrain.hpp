@@ -127,7 +127,8 @@ class Terrain {
   std::set<scene::TileIndex> tiles_, scene_tiles_;
 };
 
-/// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`.
+/// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`; a
+/// height field (scene::Mesh::grid_columns).
 scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
                         scene::MaterialId material);
 
