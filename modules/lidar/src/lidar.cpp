@@ -242,6 +242,13 @@ std::vector<Ray> Scanner::rays(const RayScene& scene, const PoseAt& pose) const 
 
 LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                          std::uint64_t frame) const {
+  LidarFrame out;
+  scan(scene, pose, random, frame, out);
+  return out;
+}
+
+void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
+                   std::uint64_t frame, LidarFrame& out) const {
   const ScanPattern& p = params_.pattern;
   const std::size_t L = p.lasers.size();
   const auto W = static_cast<std::size_t>(p.columns);
@@ -386,7 +393,6 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
   });
   for (std::size_t r = 0; r < rings; ++r)
     first[r + 1] += first[r];
-  LidarFrame out;
   out.rays = raysPerFrame();
   out.points.resize(first[rings]);
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
@@ -395,7 +401,6 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
       *points++ = w.points[r * per_ring + s];
   });
   release(std::move(scratch));
-  return out;
 }
 
 }  // namespace trainsim::lidar

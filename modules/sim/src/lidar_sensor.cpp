@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 
 #include <Eigen/Geometry>
 
@@ -395,9 +396,21 @@ class LidarSensor final : public SensorOf<LidarScan> {
         pattern.range_max_m + 0.5 * (end.translation() - start.translation()).norm() + 1.0;
     const scene::SceneWindow window = scene_->window(centre, reach);
     const lidar::RayScene scene = rays_->scene(window.tiles);
-    const lidar::LidarFrame frame = scanner_.scan(
+    // The frames' memory is reused from scan to scan (one per scan in flight).
+    std::unique_ptr<lidar::LidarFrame> reused;
+    {
+      const std::lock_guard lock(frames_mutex_);
+      if (!frames_.empty()) {
+        reused = std::move(frames_.back());
+        frames_.pop_back();
+      }
+    }
+    if (!reused)
+      reused = std::make_unique<lidar::LidarFrame>();
+    const lidar::LidarFrame& frame = *reused;
+    scanner_.scan(
         scene, [&](double t) { return poses.at(t); }, random_,
-        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())));
+        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())), *reused);
 
     LidarScan out;
     out.rays = frame.rays;
@@ -430,6 +443,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
       if (pcd_)
         out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, p.time_s, 0});
     }
+    const std::lock_guard lock(frames_mutex_);
+    frames_.push_back(std::move(reused));
     return out;
   }
 
@@ -471,6 +486,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
   lidar::Scanner scanner_;
   RandomStream random_;
   bool motion_compensated_, point_info_, pcd_;
+  mutable std::mutex frames_mutex_;
+  mutable std::vector<std::unique_ptr<lidar::LidarFrame>> frames_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
   std::vector<std::int64_t> class_points_;

@@ -105,6 +105,10 @@ class Scanner {
   /// threads.
   LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                   std::uint64_t frame) const;
+  /// The same into `out`, reusing its memory: a caller that scans frame after frame keeps one
+  /// LidarFrame (a few MB) instead of allocating and initialising it every time.
+  void scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
+            std::uint64_t frame, LidarFrame& out) const;
   /// The rays scan() casts, in the same order (column by column, each column's lasers in
   /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
   /// rays.
