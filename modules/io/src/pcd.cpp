@@ -3,9 +3,8 @@
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
 
-#include <cstring>
-
 #include "trainsim/core/error.hpp"
+#include "trainsim/io/packed.hpp"
 
 namespace trainsim::io {
 namespace {
@@ -21,13 +20,12 @@ constexpr FieldSpec kFields[] = {
     {"z", pcl::PCLPointField::FLOAT32, 4},   {"intensity", pcl::PCLPointField::FLOAT32, 4},
     {"ring", pcl::PCLPointField::UINT16, 2}, {"time", pcl::PCLPointField::FLOAT32, 4},
     {"label", pcl::PCLPointField::UINT32, 4}};
-constexpr std::size_t kPointBytes = 26;
-
-template <typename T>
-void put(char*& out, T value) {
-  std::memcpy(out, &value, sizeof value);
-  out += sizeof value;
-}
+constexpr std::size_t kPointBytes = [] {
+  std::size_t bytes = 0;
+  for (const FieldSpec& f : kFields)
+    bytes += f.size;
+  return bytes;
+}();
 
 }  // namespace
 
@@ -46,7 +44,6 @@ std::string encodePcd(std::span<const PcdPoint> points) {
     cloud.fields.push_back(f);
     offset += spec.size;
   }
-  static_assert(kPointBytes == 4 * 4 + 2 + 4 + 4);
   cloud.width = static_cast<pcl::uindex_t>(points.size());
   cloud.height = 1;
   cloud.is_dense = true;
@@ -55,20 +52,20 @@ std::string encodePcd(std::span<const PcdPoint> points) {
   pcl::PCDWriter writer;
   std::string out =
       writer.generateHeaderBinary(cloud, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity());
-  if (out.empty() || offset != kPointBytes)
+  if (out.empty())
     throw RuntimeError("PCL could not make a PCD header");
   out += "DATA binary\n";
   const std::size_t header = out.size();
   out.resize(header + points.size() * kPointBytes);
   char* p = out.data() + header;
   for (const PcdPoint& q : points) {
-    put(p, q.x);
-    put(p, q.y);
-    put(p, q.z);
-    put(p, q.intensity);
-    put(p, q.ring);
-    put(p, q.time);
-    put(p, q.label);
+    putPacked(p, q.x);
+    putPacked(p, q.y);
+    putPacked(p, q.z);
+    putPacked(p, q.intensity);
+    putPacked(p, q.ring);
+    putPacked(p, q.time);
+    putPacked(p, q.label);
   }
   return out;
 }

@@ -129,15 +129,7 @@ struct Scanner::Scratch {
 
 Scanner::~Scanner() = default;
 
-std::unique_ptr<Scanner::Scratch> Scanner::acquire() const {
-  {
-    const std::lock_guard lock(pool_mutex_);
-    if (!pool_.empty()) {
-      auto s = std::move(pool_.back());
-      pool_.pop_back();
-      return s;
-    }
-  }
+std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   auto s = std::make_unique<Scratch>();
   const auto rays = static_cast<std::size_t>(raysPerFrame());
   const auto slots = static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse());
@@ -153,11 +145,6 @@ std::unique_ptr<Scanner::Scratch> Scanner::acquire() const {
       params_.pattern.lasers.size(),
       std::vector<std::uint32_t>(static_cast<std::size_t>(params_.pattern.columns) + 1));
   return s;
-}
-
-void Scanner::release(std::unique_ptr<Scratch> scratch) const {
-  const std::lock_guard lock(pool_mutex_);
-  pool_.push_back(std::move(scratch));
 }
 
 Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
@@ -255,7 +242,7 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   const Eigen::Isometry3d frame_pose = pose(0.0);
   const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
   const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
-  std::unique_ptr<Scratch> scratch = acquire();
+  std::unique_ptr<Scratch> scratch = scratch_.take([this] { return makeScratch(); });
   Scratch& w = *scratch;
 
   const std::size_t N = footprint_.size();
@@ -400,7 +387,7 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     for (const auto& [key, s] : w.order[r])
       *points++ = w.points[r * per_ring + s];
   });
-  release(std::move(scratch));
+  scratch_.give(std::move(scratch));
 }
 
 }  // namespace trainsim::lidar

@@ -61,9 +61,9 @@ struct SceneHandle {
 };
 
 // Adds `mesh` to `scene` as one triangle geometry, each vertex v placed at offset + linear · v.
-void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
-                  const Eigen::Vector3d& offset, const Eigen::Matrix3f& linear) {
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+// Gives `g` the mesh's vertices, placed by `linear` then `offset` (summed in double).
+void setVertices(RTCGeometry g, const scene::Mesh& mesh, const Eigen::Vector3d& offset,
+                 const Eigen::Matrix3f& linear) {
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
   const bool identity = linear.isIdentity(0.0f);
@@ -75,6 +75,12 @@ void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
     v[3 * i + 1] = static_cast<float>(p.y());
     v[3 * i + 2] = static_cast<float>(p.z());
   }
+}
+
+void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
+                  const Eigen::Vector3d& offset, const Eigen::Matrix3f& linear) {
+  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  setVertices(g, mesh, offset, linear);
   auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
@@ -95,14 +101,7 @@ void addGrid(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
       mesh.parts.size() != 1)
     throw RuntimeError("Embree grid: a height field must be 2..32767 vertices a side, one part");
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_GRID);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d p = offset + mesh.vertices[i].cast<double>();
-    v[3 * i] = static_cast<float>(p.x());
-    v[3 * i + 1] = static_cast<float>(p.y());
-    v[3 * i + 2] = static_cast<float>(p.z());
-  }
+  setVertices(g, mesh, offset, Eigen::Matrix3f::Identity());
   auto* grid = static_cast<RTCGrid*>(
       rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid), 1));
   grid->startVertexID = 0;

@@ -4,13 +4,12 @@
 
 #include <bit>
 #include <cmath>
-#include <cstring>
-#include <mutex>
 
 #include <Eigen/Geometry>
 
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/io/packed.hpp"
 #include "trainsim/io/pcd.hpp"
 #include "trainsim/lidar/lidar.hpp"
 #include "trainsim/sim/instance_table.hpp"
@@ -304,12 +303,6 @@ struct LidarScan {
 // (resources/materials.json).
 constexpr std::size_t kPointInfoBytes = 12;
 
-template <typename T>
-void put(char*& out, T value) {
-  std::memcpy(out, &value, sizeof value);
-  out += sizeof value;
-}
-
 class LidarSensor final : public SensorOf<LidarScan> {
  public:
   LidarSensor(const SensorSetup& setup, const LidarConfig& c)
@@ -397,16 +390,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
     const scene::SceneWindow window = scene_->window(centre, reach);
     const lidar::RayScene scene = rays_->scene(window.tiles);
     // The frames' memory is reused from scan to scan (one per scan in flight).
-    std::unique_ptr<lidar::LidarFrame> reused;
-    {
-      const std::lock_guard lock(frames_mutex_);
-      if (!frames_.empty()) {
-        reused = std::move(frames_.back());
-        frames_.pop_back();
-      }
-    }
-    if (!reused)
-      reused = std::make_unique<lidar::LidarFrame>();
+    std::unique_ptr<lidar::LidarFrame> reused = frames_.take();
     const lidar::LidarFrame& frame = *reused;
     scanner_.scan(
         scene, [&](double t) { return poses.at(t); }, random_,
@@ -427,24 +411,23 @@ class LidarSensor final : public SensorOf<LidarScan> {
     char* info = out.info.data();
     for (const lidar::LidarPoint& p : frame.points) {
       const Eigen::Vector3f& xyz = motion_compensated_ ? p.xyz : p.xyz_raw;
-      put(bin, xyz.x());
-      put(bin, xyz.y());
-      put(bin, xyz.z());
-      put(bin, p.intensity);
+      io::putPacked(bin, xyz.x());
+      io::putPacked(bin, xyz.y());
+      io::putPacked(bin, xyz.z());
+      io::putPacked(bin, p.intensity);
       if (point_info_) {
-        put(info, p.time_s);
-        put(info, p.range_m);
-        put(info, p.ring);
-        put(info, p.return_index);
-        put(info, static_cast<std::uint8_t>(p.material));
+        io::putPacked(info, p.time_s);
+        io::putPacked(info, p.range_m);
+        io::putPacked(info, p.ring);
+        io::putPacked(info, p.return_index);
+        io::putPacked(info, static_cast<std::uint8_t>(p.material));
       }
       out.cls.push_back(p.cls);
       out.instance.push_back(p.instance);
       if (pcd_)
         out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, p.time_s, 0});
     }
-    const std::lock_guard lock(frames_mutex_);
-    frames_.push_back(std::move(reused));
+    frames_.give(std::move(reused));
     return out;
   }
 
@@ -455,7 +438,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
     for (std::size_t i = 0; i < scan.cls.size(); ++i) {
       const std::uint32_t id = instances_->id(scan.instance[i], scan.cls[i]);
       const std::uint32_t label = static_cast<std::uint32_t>(scan.cls[i]) | (id << 16);
-      put(out, label);
+      io::putPacked(out, label);
       if (pcd_)
         scan.pcd[i].label = label;
       ++class_points_[scan.cls[i]];
@@ -486,8 +469,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   lidar::Scanner scanner_;
   RandomStream random_;
   bool motion_compensated_, point_info_, pcd_;
-  mutable std::mutex frames_mutex_;
-  mutable std::vector<std::unique_ptr<lidar::LidarFrame>> frames_;
+  mutable ObjectPool<lidar::LidarFrame> frames_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
   std::vector<std::int64_t> class_points_;

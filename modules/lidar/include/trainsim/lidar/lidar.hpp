@@ -4,12 +4,12 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "trainsim/core/object_pool.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/lidar/intensity.hpp"
 #include "trainsim/lidar/ray_scene.hpp"
@@ -126,10 +126,8 @@ class Scanner {
   std::vector<int> ring_lasers_;             // the laser of each ring
 
   struct Scratch;
-  std::unique_ptr<Scratch> acquire() const;
-  void release(std::unique_ptr<Scratch> scratch) const;
-  mutable std::mutex pool_mutex_;
-  mutable std::vector<std::unique_ptr<Scratch>> pool_;  // one per frame scanned at once
+  std::unique_ptr<Scratch> makeScratch() const;
+  mutable ObjectPool<Scratch> scratch_;  // one per frame scanned at once
 };
 
 }  // namespace trainsim::lidar
