@@ -28,13 +28,14 @@ if(TRAINSIM_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()
 
-# VTK: the scene's ParaView export (IOXML) everywhere; the studio's rendering and Qt widgets.
-# Debian's VTK config needs MPI's C component found first (docs/REFERENCES.md P5).
+# VTK: the scene's ParaView export (IOXML) and the cameras' offscreen rendering (RenderingCore,
+# RenderingOpenGL2) everywhere; the studio's Qt widgets. Debian's VTK config needs MPI's C
+# component found first (docs/REFERENCES.md P5).
 find_package(MPI COMPONENTS C)
-set(TRAINSIM_VTK_COMPONENTS CommonCore CommonDataModel IOXML)
+set(TRAINSIM_VTK_COMPONENTS CommonCore CommonDataModel IOXML RenderingCore RenderingOpenGL2)
 if(TRAINSIM_BUILD_STUDIO)
   list(APPEND TRAINSIM_VTK_COMPONENTS FiltersSources GUISupportQt InteractionStyle
-       RenderingAnnotation RenderingCore RenderingFreeType RenderingOpenGL2)
+       RenderingAnnotation RenderingFreeType)
 endif()
 find_package(VTK 9.1 REQUIRED COMPONENTS ${TRAINSIM_VTK_COMPONENTS})
 # PCL 1.13: LiDAR scans as PCD files (io) and the tests' read-back. Its config needs MPI's C

@@ -26,7 +26,17 @@ for s in m["sensors"]:
 assert [s["files"] for s in m["sensors"] if s["kind"] == "frames"] == [
     ["sequences/00/times.txt", "sequences/00/poses.txt"]], m
 PY
-expect_contains "$WORK/err" "not simulated yet" "generate says which stages did not run"
+# Every pipeline stage is built: nothing is reported as not simulated.
+grep -q "not simulated yet" "$WORK/err" && fail "generate reports stages not run" ||
+  pass "generate runs every stage"
+python3 -c "import json,sys; assert json.load(open(sys.argv[1]))['not_simulated'] == []" \
+  "$WORK/a/manifest.json" && pass "manifest: nothing not simulated" || fail "manifest lists stages not run"
+# The front camera's images, P0-P3 and Tr in calib.txt.
+for d in image_2 depth_2 semantic_2 instance_2; do
+  [ "$(ls "$WORK/a/sequences/00/$d" | wc -l)" -eq 305 ] && pass "$d: 305 frames" || fail "$d: not 305 frames"
+done
+[ "$(cut -d: -f1 "$WORK/a/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr " ] &&
+  pass "calib.txt: P0 P1 P2 P3 Tr" || fail "calib.txt keys: $(cut -d: -f1 "$WORK/a/sequences/00/calib.txt")"
 # Another sequence number: the manifest says where its files are.
 expect_exit 0 "generate sequence 7" -- bash -c \
   "\"$TRAINSIM\" defaults | sed 's/\"sequence\": 0/\"sequence\": 7/' | \"$TRAINSIM\" generate - --out \"$WORK/s7\""

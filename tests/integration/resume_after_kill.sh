@@ -39,12 +39,15 @@ else
 fi
 rm -rf "$WORK/gref" "$WORK/gcut"
 
-# The same with a LiDAR: per-scan velodyne, labels and point_info files, lidar.csv, the instance
-# table (carried in the checkpoint) and calib.txt.
+# The same with a LiDAR and a camera: per-scan velodyne, labels and point_info files, lidar.csv,
+# the camera's image, depth, semantic and instance PNGs (rendered under the Xvfb `generate`
+# starts), the instance table both share (carried in the checkpoint) and calib.txt; the
+# uninterrupted run on 2 threads, the resumed one on 1.
 cat >"$WORK/lidar.json" <<'JSON'
 {"seed": 3, "route": {"generator": {"length_m": 600, "station": {"probability": 0.5}}},
  "dataset": {"frame_period_ns": 500000000},
  "sensors": {"lidars": [{"model": "vlp16", "columns": 600, "period_ns": 500000000}],
+             "cameras": [{"width": 320, "height": 96, "period_ns": 500000000}],
              "imus": [{}]}}
 JSON
 expect_exit 0 "LiDAR: uninterrupted run" -- "$TRAINSIM" generate "$WORK/lidar.json" \

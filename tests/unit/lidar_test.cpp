@@ -8,6 +8,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "support/scene_shapes.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
 #include "trainsim/lidar/intensity.hpp"
@@ -21,6 +22,8 @@ namespace {
 
 using lidar::Ray;
 using lidar::RayHit;
+using test::makeTile;
+using test::square;
 
 // Transcribed from sensors-reference.md 1.1, 1.2, 1.4 (S3 'xiesc') and 1.5, in laser id order.
 const std::vector<double> kVlp16Elevation = {-15.0, 1.0, -13.0, 3.0,  -11.0, 5.0,  -9.0, 7.0,
@@ -61,38 +64,6 @@ const std::vector<double> kOs1BeamAzimuth = {
     -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164};
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-
-// A tile at `origin` with the given meshes (tile-owned, placed at the origin) and wires.
-std::shared_ptr<const scene::Tile> makeTile(const Eigen::Vector3d& origin,
-                                            std::vector<scene::Mesh> meshes,
-                                            std::vector<scene::Wire> wires = {},
-                                            std::vector<scene::Object> objects = {}) {
-  auto tile = std::make_shared<scene::Tile>();
-  tile->origin = origin;
-  scene::InstanceId id = 1;
-  for (auto& m : meshes)
-    tile->objects.push_back(scene::Object::place(std::make_shared<const scene::Mesh>(std::move(m)),
-                                                 origin, Eigen::Matrix3f::Identity(), id++));
-  for (auto& o : objects)
-    tile->objects.push_back(std::move(o));
-  tile->wires = std::move(wires);
-  tile->updateBounds();
-  return tile;
-}
-
-// A square of side 2·half centred at `centre` (relative to the tile origin) with unit normal n.
-scene::Mesh square(const Eigen::Vector3d& centre, const Eigen::Vector3d& n, double half,
-                   scene::ClassId cls = scene::cls::kBuilding,
-                   scene::MaterialId mat = scene::mat::kConcrete) {
-  const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
-  scene::Mesh m;
-  m.beginPart(cls, mat);
-  const auto at = [&](double a, double b) {
-    return m.addVertex((centre + half * (a * u + b * v)).cast<float>());
-  };
-  m.addQuad(at(-1, -1), at(1, -1), at(1, 1), at(-1, 1));
-  return m;
-}
 
 // Exact ray–triangle distance in double (Möller–Trumbore), infinity for a miss.
 double rayTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,

@@ -9,6 +9,7 @@
 
 #include "../support/synthetic.hpp"
 #include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/sim/frame_clock.hpp"
 #include "trainsim/sim/generate.hpp"
@@ -120,7 +121,9 @@ TEST(FrameClock, WritesExactTimesAndPosesRelativeToFrameZero) {
   // Heading 0.7 rad: in the camera-0 frame of frame 0 the train still moves straight along +z.
   const testing::StraightTrajectory traj(ts, 101, 25.0, 0.7);
   std::vector<std::unique_ptr<Sensor>> sensors;
-  sensors.push_back(std::make_unique<FrameClock>(10 * ts, traj));
+  Eigen::Isometry3d T_body_cam0 = Eigen::Isometry3d::Identity();  // no camera: at the body
+  T_body_cam0.linear() = rotationBodyFromKittiCamera();
+  sensors.push_back(std::make_unique<FrameClock>(10 * ts, traj, T_body_cam0));
   const fs::path out = freshDir("frameclock");
   {
     io::DatasetWriter writer(out, io::DatasetLayout(0), {"h", 1}, {});

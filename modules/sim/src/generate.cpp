@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "classes_yaml.hpp"
+#include "trainsim/camera/x_display.hpp"
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/version.hpp"
@@ -69,16 +70,28 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   writer.writeFile(io::DatasetLayout::kScenario, scenario.text());
   if (write_plan)
     write_plan(writer);
-  std::string calib;
+  // calib.txt in KITTI's order: P0, P1, … then Tr, Tr_1, … (readers that take lines by position
+  // find them where KITTI has them).
+  std::vector<std::string> lines;
   for (const auto& sensor : sensors)
     for (const std::string& line : sensor->calibration())
-      calib += line + "\n";
+      lines.push_back(line);
+  const auto rank = [](const std::string& line) {
+    return line.starts_with("P") ? std::stoi(line.substr(1)) : 1 << 20;
+  };
+  std::stable_sort(lines.begin(), lines.end(),
+                   [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  std::string calib;
+  for (const std::string& line : lines)
+    calib += line + "\n";
   if (!calib.empty())
     writer.writeFile(layout.inSequence(io::DatasetLayout::kCalib), calib);
 
   if (trajectory != nullptr) {
     const TimeNs frame_period = dataset.frame_period_ns;
-    sensors.insert(sensors.begin(), std::make_unique<FrameClock>(frame_period, *trajectory));
+    sensors.insert(sensors.begin(),
+                   std::make_unique<FrameClock>(frame_period, *trajectory,
+                                                referenceCameraPose(scenario.json())));
     MovementOptions movement;
     movement.checkpoint_every_samples = frame_period / trajectory->samplePeriod();
     movement.threads = options.threads;
@@ -133,6 +146,10 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   }
   if (hasSensors(scenario.json(), "lidars"))
     context.rays = std::make_shared<lidar::RayWorld>();
+  // Cameras render through X: without a display, a private Xvfb for the run.
+  std::unique_ptr<camera::XDisplay> display;
+  if (hasSensors(scenario.json(), "cameras"))
+    display = camera::XDisplay::ensure();
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
   return runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
                     [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });

@@ -313,6 +313,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
         name_(c.basics.name),
         period_(c.basics.period_ns),
         index_(setup.index),
+        T_body_cam0_(setup.context.T_body_cam0),
         scanner_(scannerParams(c)),
         random_(setup.context.scenario.seed(), name_ + ".returns"),
         motion_compensated_(c.motion_compensated),
@@ -341,9 +342,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
   }
 
   std::vector<std::string> calibration() const override {
-    Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
-    T_body_cam.linear() = rotationBodyFromKittiCamera();
-    const Eigen::Matrix<double, 3, 4> m = kittiTr(T_body_cam, T_body_sensor_).matrix().topRows<3>();
+    const Eigen::Matrix<double, 3, 4> m =
+        kittiTr(T_body_cam0_, T_body_sensor_).matrix().topRows<3>();
     std::string line = index_ == 0 ? "Tr:" : fmt::format("Tr_{}:", index_);
     for (int r = 0; r < 3; ++r)
       for (int col = 0; col < 4; ++col)
@@ -465,6 +465,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   std::string name_;
   TimeNs period_;
   int index_;
+  Eigen::Isometry3d T_body_cam0_;
   Eigen::Isometry3d T_body_sensor_ = Eigen::Isometry3d::Identity();
   lidar::Scanner scanner_;
   RandomStream random_;

@@ -128,7 +128,7 @@ const std::vector<PipelineStage>& stageTable() {
          {seed, terrainSection().key, assetsSection().key, objectsSection().key},
          true},
         {"lidar", "LiDAR", {}, true},
-        {"cameras", "cameras", {}, false},
+        {"cameras", "cameras", {}, true},
     };
   }();
   return stages;

@@ -6,6 +6,7 @@
 #include <array>
 #include <map>
 
+#include "camera_sensor.hpp"
 #include "imu_sensor.hpp"
 #include "lidar_sensor.hpp"
 #include "positioning_sensors.hpp"
@@ -36,7 +37,7 @@ namespace trainsim::sim {
 // The frame clock that writes times.txt and poses.txt is not a registered kind: every
 // dataset has exactly one (frame_clock.hpp).
 namespace {
-constexpr std::array<SensorKind, 5> kSensorKinds = {
+constexpr std::array<SensorKind, 6> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
                &createImu, &checkImu, kImuCsvs},
     SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, &checkGnss,
@@ -47,6 +48,8 @@ constexpr std::array<SensorKind, 5> kSensorKinds = {
                &declareBaliseReader, &createBaliseReader, &checkBaliseReader, kReadingsCsv},
     SensorKind{"lidars", "Rotating multi-beam LiDARs (Embree)", &declareLidar, &createLidar,
                &checkLidar, kReadingsCsv, /*frame_synchronous=*/true},
+    SensorKind{"cameras", "Cameras (VTK offscreen rendering)", &declareCamera, &createCamera,
+               &checkCamera, kReadingsCsv, /*frame_synchronous=*/true},
 };
 
 constexpr const char* kSensors = "sensors";
@@ -66,11 +69,22 @@ std::span<const SensorKind> sensorKinds() {
   return kSensorKinds;
 }
 
+Eigen::Isometry3d referenceCameraPose(const scenario::Json& resolved) {
+  const auto camera = std::find_if(kSensorKinds.begin(), kSensorKinds.end(),
+                                   [](const SensorKind& k) { return k.create == &createCamera; });
+  const scenario::Json& cameras = resolved.at(kSensors).at(camera->key);
+  if (!cameras.empty())
+    return cameraBodyPose(cameras[0]);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = rotationBodyFromKittiCamera();
+  return T;
+}
+
 SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
                                 const track::Route* route, const track::Layout* layout) {
   return SensorContext{
-      scenario, geodeticAnchor(scenario.json()), trajectory, route, layout, nullptr, nullptr,
-      nullptr};
+      scenario, geodeticAnchor(scenario.json()),     trajectory, route, layout, nullptr, nullptr,
+      nullptr,  referenceCameraPose(scenario.json())};
 }
 
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {
@@ -79,8 +93,9 @@ std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context)
     const std::string path = fmt::format("{}.{}", kSensors, kind.key);
     const scenario::Json& list = context.scenario.at(path);
     for (std::size_t i = 0; i < list.size(); ++i)
-      sensors.push_back(kind.create(
-          SensorSetup{context, list[i], fmt::format("{}[{}]", path, i), static_cast<int>(i)}));
+      sensors.push_back(
+          kind.create(SensorSetup{context, list[i], fmt::format("{}[{}]", path, i),
+                                  static_cast<int>(i), static_cast<int>(list.size())}));
   }
   if (context.instances)
     sensors.insert(

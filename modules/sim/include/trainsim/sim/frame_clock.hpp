@@ -16,12 +16,12 @@ struct FrameLines {
 /// one to poses.txt (KITTI odometry convention: the 3x4 row-major pose of the camera-0 frame
 /// at this frame, expressed in the camera-0 frame of frame 0).
 ///
-/// Camera axes follow KITTI: x right, y down, z forward. Until cameras exist, camera 0 is the
-/// body reference point with those axes (rotationBodyFromKittiCamera, core/frames.hpp).
+/// Camera axes follow KITTI: x right, y down, z forward. Camera 0 is the first camera's mount,
+/// or without a camera the body reference point with those axes (referenceCameraPose).
 
 class FrameClock final : public SensorOf<FrameLines> {
  public:
-  FrameClock(TimeNs period, const Trajectory& trajectory);
+  FrameClock(TimeNs period, const Trajectory& trajectory, const Eigen::Isometry3d& T_body_cam0);
 
   static constexpr const char* kKind = "frames";
 
@@ -39,6 +39,7 @@ class FrameClock final : public SensorOf<FrameLines> {
 
   const Trajectory& trajectory_;
   TimeNs period_;
+  Eigen::Isometry3d T_body_cam0_;
   Eigen::Isometry3d T_cam0_world_first_;  // inverse pose of camera 0 at frame 0
   io::AppendFile* times_ = nullptr;
   io::AppendFile* poses_ = nullptr;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "trainsim/core/geodesy.hpp"
@@ -107,6 +108,9 @@ struct SensorContext {
   scene::SceneStream* scene = nullptr;
   std::shared_ptr<lidar::RayWorld> rays;
   std::shared_ptr<InstanceTable> instances;
+  /// Camera 0 → body: the frame of KITTI's Tr and poses.txt (the first camera's mount with
+  /// KITTI's camera axes; without a camera, those axes at the body's reference point).
+  Eigen::Isometry3d T_body_cam0 = Eigen::Isometry3d::Identity();
 };
 
 /// What a sensor factory gets: the run's context, the sensor's own resolved section (e.g.
@@ -116,6 +120,7 @@ struct SensorSetup {
   const scenario::Json& config;
   std::string path;
   int index = 0;  ///< position in its kind's list (the LiDAR's velodyne_N folder, …)
+  int count = 1;  ///< sensors of its kind in the scenario
 };
 
 }  // namespace trainsim::sim

@@ -17,6 +17,7 @@ inline constexpr const char* kGnssKind = "gnss";
 inline constexpr const char* kOdometerKind = "odometer";
 inline constexpr const char* kBaliseReaderKind = "balise_reader";
 inline constexpr const char* kLidarKind = "lidar";
+inline constexpr const char* kCameraKind = "camera";
 
 /// One kind of sensor: its scenario declaration and its factory. The scenario holds a list
 /// of sensors of each kind under `sensors.<key>[]` (e.g. `sensors.imus[]`).
@@ -46,6 +47,11 @@ std::span<const SensorKind> sensorKinds();
 SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajectory& trajectory,
                                 const track::Route* route = nullptr,
                                 const track::Layout* layout = nullptr);
+
+/// Camera 0 → body in a resolved scenario: the frame of KITTI's Tr and poses.txt. The first
+/// camera's mount with KITTI's camera axes (x right, y down, z forward); without a camera, those
+/// axes at the body's reference point.
+Eigen::Isometry3d referenceCameraPose(const scenario::Json& resolved);
 
 /// Creates every sensor configured in the context's scenario, kind by kind in table order.
 /// The sensors keep references into `context`, which must outlive them.

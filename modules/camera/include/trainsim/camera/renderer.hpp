@@ -1,0 +1,84 @@
+#pragma once
+// A camera's images of the scene, rendered with VTK into an offscreen OpenGL framebuffer (an X
+// server is needed: Debian's VTK is built for GLX only; see x_display.hpp).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "trainsim/camera/camera_model.hpp"
+#include "trainsim/scene/scene.hpp"
+
+namespace trainsim::camera {
+
+/// Which images a render makes; only those are drawn (depth comes with the colour pass, the
+/// semantic and instance images from one id pass).
+struct Passes {
+  bool rgb = true;
+  bool depth = true;
+  bool semantic = true;
+  bool instance = true;
+};
+
+/// Light and sky of a render.
+struct Lighting {
+  /// Towards the sun, world frame (ENU-like: z up), unit.
+  Eigen::Vector3d sun_direction = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  double sun_intensity = 1.0;
+  double ambient = 0.35;                 ///< the share of the surface colour lit by the sky
+  scene::Rgb sky_zenith{110, 150, 205};  ///< the background's top and horizon colours
+  scene::Rgb sky_horizon{190, 210, 230};
+};
+
+struct RendererOptions {
+  Intrinsics intrinsics;
+  /// The clipping planes: nothing nearer than near_m is drawn, nothing beyond far_m (the draw
+  /// distance). The depth buffer's step at z is about z² / (near · 2²⁴): 1.2 mm at 100 m for
+  /// near = 0.5 m (sensors-reference.md 7.3).
+  double near_m = 0.5;
+  double far_m = 400.0;
+  Passes passes;
+};
+
+/// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).
+struct CameraImages {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  ///< 3 bytes a pixel
+  /// Metres along the optical axis; 0 where nothing is drawn (sky, or beyond far_m).
+  std::vector<float> depth;
+  std::vector<std::uint8_t> semantic;  ///< class id; sky where nothing is drawn
+  /// The object drawn at each pixel, 0 for none: an index into `instances`.
+  std::vector<std::uint16_t> object;
+  /// The scene instance id of each object value (instances[0] = 0).
+  std::vector<scene::InstanceId> instances;
+  std::int64_t triangles = 0;  ///< triangles drawn (each pass), after culling
+  std::int64_t objects = 0;    ///< objects and wires drawn
+};
+
+/// Renders a scene window from a camera pose. The renderer owns its VTK window and OpenGL
+/// context on a thread of its own, so render() may be called from any thread (calls are served
+/// one at a time). Geometry is placed relative to the camera in double and drawn in float, so
+/// accuracy does not depend on the distance from the scenario origin. Only objects whose boxes
+/// meet the view frustum within far_m are drawn. The images are a pure function of the window
+/// and the pose: draw order follows the window, never what was drawn before.
+class Renderer {
+ public:
+  explicit Renderer(RendererOptions options);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  const RendererOptions& options() const { return options_; }
+
+  /// `T_world_cam`: the camera's pose (camera axes as camera_model.hpp, world double).
+  CameraImages render(const scene::SceneWindow& window, const Eigen::Isometry3d& T_world_cam,
+                      const Lighting& lighting) const;
+
+ private:
+  struct Impl;
+  RendererOptions options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace trainsim::camera

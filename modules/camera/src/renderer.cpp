@@ -1,0 +1,548 @@
+#include "trainsim/camera/renderer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include <vtkActor.h>
+#include <vtkAutoInit.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkFloatArray.h>
+#include <vtkLight.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnsignedCharArray.h>
+
+#include "trainsim/core/error.hpp"
+
+VTK_MODULE_INIT(vtkRenderingOpenGL2);
+
+namespace trainsim::camera {
+namespace {
+
+// An OpenGL context belongs to one thread at a time, and Xlib is not thread-safe without
+// XInitThreads, which would have to run before anything else opens a display. So every VTK call
+// of every renderer runs on one thread of the process; the software rasteriser (llvmpipe)
+// spreads each draw over the cores itself.
+class RenderThread {
+ public:
+  RenderThread() : thread_([this] { loop(); }) {}
+  ~RenderThread() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    thread_.join();
+  }
+
+  // Runs f on the render thread and returns its result (or rethrows its exception).
+  template <typename F>
+  auto run(F f) -> decltype(f()) {
+    std::packaged_task<decltype(f())()> task(std::move(f));
+    auto result = task.get_future();
+    {
+      const std::lock_guard lock(mutex_);
+      jobs_.emplace_back([&task] { task(); });
+    }
+    wake_.notify_one();
+    return result.get();
+  }
+
+  // The process's render thread, made when the first renderer needs it, ended with the last.
+  static std::shared_ptr<RenderThread> shared() {
+    static std::mutex mutex;
+    static std::weak_ptr<RenderThread> current;
+    const std::lock_guard lock(mutex);
+    std::shared_ptr<RenderThread> t = current.lock();
+    if (!t) {
+      t = std::make_shared<RenderThread>();
+      current = t;
+    }
+    return t;
+  }
+
+ private:
+  void loop() {
+    for (;;) {
+      std::function<void()> job;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [this] { return stop_ || !jobs_.empty(); });
+        if (jobs_.empty())
+          return;
+        job = std::move(jobs_.front());
+        jobs_.pop_front();
+      }
+      job();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::function<void()>> jobs_;
+  bool stop_ = false;
+  std::thread thread_;  // last: starts after the members it uses
+};
+
+// The id pass's colour of a surface: R the class, G and B the drawn object's slot + 1.
+std::array<std::uint8_t, 3> idColour(scene::ClassId cls, std::uint32_t slot) {
+  const std::uint32_t object = slot + 1;
+  return {static_cast<std::uint8_t>(cls), static_cast<std::uint8_t>(object >> 8),
+          static_cast<std::uint8_t>(object & 0xFF)};
+}
+
+// A shared mesh as VTK polydata (float vertices relative to the mesh's origin), with its
+// triangles' surface colours from their parts' materials.
+struct MeshEntry {
+  std::shared_ptr<const scene::Mesh> mesh;  // keeps the key's pointer valid
+  vtkSmartPointer<vtkPolyData> poly;
+  vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by its objects
+  std::uint64_t used = 0;
+};
+
+// An object (or a wire) as drawn: its actors for the two passes and its id slot.
+struct DrawnEntry {
+  const scene::Mesh* mesh = nullptr;  // null for a wire
+  std::shared_ptr<const scene::Tile> tile;
+  vtkSmartPointer<vtkActor> colour, id;
+  std::uint32_t slot = 0;
+  std::int64_t triangles = 0;
+  std::uint64_t used = 0;
+};
+
+vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* array) {
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputData(poly);
+  mapper->SetScalarModeToUseCellFieldData();
+  mapper->SelectColorArray(array);
+  mapper->SetColorModeToDirectScalars();
+  mapper->ScalarVisibilityOn();
+  mapper->StaticOn();  // the data never changes: skip the pipeline's update checks
+  return mapper;
+}
+
+vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.vertices.size()));
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), mesh.vertices[i].x(), mesh.vertices[i].y(),
+                     mesh.vertices[i].z());
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(static_cast<vtkIdType>(mesh.triangles.size()),
+                       static_cast<vtkIdType>(3 * mesh.triangles.size()));
+  vtkNew<vtkUnsignedCharArray> albedo;
+  albedo->SetName("albedo");
+  albedo->SetNumberOfComponents(3);
+  albedo->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
+  for (const scene::MeshPart& part : mesh.parts) {
+    const scene::Rgb c = scene::material(part.material).colour;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
+         ++t) {
+      const auto& tri = mesh.triangles[t];
+      const vtkIdType ids[3] = {tri[0], tri[1], tri[2]};
+      polys->InsertNextCell(3, ids);
+      albedo->SetTypedTuple(static_cast<vtkIdType>(t), c.data());
+    }
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  poly->GetCellData()->AddArray(albedo);
+  return poly;
+}
+
+// The id pass's polydata of one object: the mesh's points and triangles (shared, not copied)
+// with the object's own id colours.
+vtkSmartPointer<vtkPolyData> idPolyData(vtkPolyData* mesh_poly, const scene::Mesh& mesh,
+                                        std::uint32_t slot) {
+  vtkNew<vtkUnsignedCharArray> ids;
+  ids->SetName("id");
+  ids->SetNumberOfComponents(3);
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
+  for (const scene::MeshPart& part : mesh.parts) {
+    const auto c = idColour(part.cls, slot);
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t)
+      ids->SetTypedTuple(static_cast<vtkIdType>(t), c.data());
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(mesh_poly->GetPoints());
+  poly->SetPolys(mesh_poly->GetPolys());
+  poly->GetCellData()->AddArray(ids);
+  return poly;
+}
+
+// A wire as a polyline in both passes' colours.
+vtkSmartPointer<vtkPolyData> wirePolyData(const scene::Wire& wire, std::uint32_t slot) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  for (const Eigen::Vector3f& p : wire.points)
+    points->InsertNextPoint(p.x(), p.y(), p.z());
+  vtkNew<vtkCellArray> lines;
+  lines->InsertNextCell(static_cast<vtkIdType>(wire.points.size()));
+  for (std::size_t k = 0; k < wire.points.size(); ++k)
+    lines->InsertCellPoint(static_cast<vtkIdType>(k));
+  vtkNew<vtkUnsignedCharArray> albedo, ids;
+  albedo->SetName("albedo");
+  albedo->SetNumberOfComponents(3);
+  albedo->InsertNextTypedTuple(scene::material(wire.material).colour.data());
+  ids->SetName("id");
+  ids->SetNumberOfComponents(3);
+  ids->InsertNextTypedTuple(idColour(wire.cls, slot).data());
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  poly->GetCellData()->AddArray(albedo);
+  poly->GetCellData()->AddArray(ids);
+  return poly;
+}
+
+void setUserMatrix(vtkActor* actor, const Eigen::Matrix3d& linear,
+                   const Eigen::Vector3d& translation) {
+  vtkNew<vtkMatrix4x4> m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      m->SetElement(r, c, linear(r, c));
+    m->SetElement(r, 3, translation[r]);
+  }
+  actor->SetUserMatrix(m);
+}
+
+// The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
+// the four side planes, before the near plane or past the far plane.
+class Frustum {
+ public:
+  Frustum(const Intrinsics& k, double near_m, double far_m, const Eigen::Isometry3d& T_cam_world)
+      : T_cam_world_(T_cam_world), near_(near_m), far_(far_m) {
+    // u ≥ −0.5: fx x + (cx + 0.5) z ≥ 0; u ≤ W − 0.5: −fx x + (W − 0.5 − cx) z ≥ 0; same in v.
+    planes_[0] = {k.fx, 0.0, k.cx + 0.5};
+    planes_[1] = {-k.fx, 0.0, k.width - 0.5 - k.cx};
+    planes_[2] = {0.0, k.fy, k.cy + 0.5};
+    planes_[3] = {0.0, -k.fy, k.height - 0.5 - k.cy};
+  }
+
+  bool meets(const scene::Box3d& box) const {
+    if (box.empty())
+      return false;
+    std::array<Eigen::Vector3d, 8> c;
+    for (int i = 0; i < 8; ++i)
+      c[i] = T_cam_world_ * Eigen::Vector3d(i & 1 ? box.max.x() : box.min.x(),
+                                            i & 2 ? box.max.y() : box.min.y(),
+                                            i & 4 ? box.max.z() : box.min.z());
+    const auto all = [&](auto outside) { return std::all_of(c.begin(), c.end(), outside); };
+    if (all([&](const Eigen::Vector3d& p) { return p.z() < near_; }) ||
+        all([&](const Eigen::Vector3d& p) { return p.z() > far_; }))
+      return false;
+    for (const Eigen::Vector3d& n : planes_)
+      if (all([&](const Eigen::Vector3d& p) { return n.dot(p) < 0.0; }))
+        return false;
+    return true;
+  }
+
+ private:
+  Eigen::Isometry3d T_cam_world_;
+  double near_, far_;
+  std::array<Eigen::Vector3d, 4> planes_;
+};
+
+// Slot s is drawn as object s + 1 (0: nothing).
+void noteInstance(CameraImages& out, std::uint32_t slot, scene::InstanceId instance) {
+  if (out.instances.size() < slot + 2)
+    out.instances.resize(slot + 2, 0);
+  out.instances[slot + 1] = instance;
+}
+
+scene::Box3d wireBounds(const scene::Tile& tile, const scene::Wire& wire) {
+  scene::Box3d b;
+  for (const Eigen::Vector3f& p : wire.points)
+    b.extend(tile.origin + p.cast<double>());
+  b.min.array() -= wire.radius_m;
+  b.max.array() += wire.radius_m;
+  return b;
+}
+
+}  // namespace
+
+// The VTK side: made, used and destroyed on the render thread only.
+struct Renderer::Impl {
+  struct Gl {
+    vtkNew<vtkRenderWindow> window;
+    vtkNew<vtkRenderer> renderer;
+    vtkNew<vtkLight> sun;
+    std::map<const scene::Mesh*, MeshEntry> meshes;
+    // Drawn things by (tile, index in the tile; wires after the objects).
+    std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
+    std::vector<std::uint32_t> free_slots;
+    std::uint32_t next_slot = 0;
+    std::uint64_t frame = 0;
+  };
+
+  std::shared_ptr<RenderThread> thread = RenderThread::shared();
+  std::unique_ptr<Gl> gl;
+
+  ~Impl() {
+    thread->run([this] {
+      gl.reset();
+      return 0;
+    });
+  }
+
+  // Entries not drawn in this many renders are dropped (a thing that leaves the view for a
+  // moment keeps its actors; memory follows what is in view, not the route).
+  static constexpr std::uint64_t kKeepRenders = 4;
+
+  void start(const RendererOptions& o) {
+    gl = std::make_unique<Gl>();
+    vtkRenderWindow* w = gl->window;
+    w->SetOffScreenRendering(1);
+    w->SetMultiSamples(0);  // no blended ids, and the depth buffer reads back directly
+    w->SetSize(o.intrinsics.width, o.intrinsics.height);
+    w->AddRenderer(gl->renderer);
+    gl->renderer->AutomaticLightCreationOff();
+    gl->sun->SetLightTypeToSceneLight();
+    gl->sun->SetPositional(false);
+    gl->renderer->AddLight(gl->sun);
+    vtkCamera* cam = gl->renderer->GetActiveCamera();
+    cam->SetPosition(0.0, 0.0, 0.0);
+    cam->SetClippingRange(o.near_m, o.far_m);
+    vtkNew<vtkMatrix4x4> projection;
+    const Eigen::Matrix4d P = o.intrinsics.glProjection(o.near_m, o.far_m);
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        projection->SetElement(r, c, P(r, c));
+    cam->SetExplicitProjectionTransformMatrix(projection);
+    cam->UseExplicitProjectionTransformMatrixOn();
+  }
+
+  MeshEntry& meshEntry(const std::shared_ptr<const scene::Mesh>& mesh) {
+    MeshEntry& e = gl->meshes[mesh.get()];
+    if (!e.poly) {
+      e.mesh = mesh;
+      e.poly = meshPolyData(*mesh);
+      e.mapper = colourMapper(e.poly, "albedo");
+    }
+    e.used = gl->frame;
+    return e;
+  }
+
+  std::uint32_t takeSlot() {
+    if (!gl->free_slots.empty()) {
+      const std::uint32_t s = gl->free_slots.back();
+      gl->free_slots.pop_back();
+      return s;
+    }
+    if (gl->next_slot >= 0xFFFF)
+      throw RuntimeError("camera: more than 65535 objects in view at once");
+    return gl->next_slot++;
+  }
+
+  static vtkSmartPointer<vtkActor> actor(vtkPolyDataMapper* mapper, bool lit) {
+    auto a = vtkSmartPointer<vtkActor>::New();
+    a->SetMapper(mapper);
+    vtkProperty* p = a->GetProperty();
+    p->SetInterpolationToFlat();
+    p->SetSpecular(0.0);
+    if (!lit)  // the id pass: the colour exactly as given
+      p->LightingOff();
+    return a;
+  }
+
+  DrawnEntry& objectEntry(std::pair<scene::TileIndex, std::uint32_t> key,
+                          const std::shared_ptr<const scene::Tile>& tile,
+                          const scene::Object& object) {
+    DrawnEntry& e = gl->drawn[key];
+    if (e.colour && e.mesh != object.mesh.get())
+      e = DrawnEntry{};  // the tile was made again since
+    if (!e.colour) {
+      const MeshEntry& m = meshEntry(object.mesh);
+      e.mesh = object.mesh.get();
+      e.tile = tile;
+      e.slot = takeSlot();
+      e.triangles = static_cast<std::int64_t>(object.mesh->triangles.size());
+      e.colour = actor(m.mapper, true);
+      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), false);
+    } else {
+      meshEntry(object.mesh);
+    }
+    e.used = gl->frame;
+    return e;
+  }
+
+  DrawnEntry& wireEntry(std::pair<scene::TileIndex, std::uint32_t> key,
+                        const std::shared_ptr<const scene::Tile>& tile, const scene::Wire& wire) {
+    DrawnEntry& e = gl->drawn[key];
+    if (e.colour && e.tile != tile)
+      e = DrawnEntry{};
+    if (!e.colour) {
+      e.tile = tile;
+      e.slot = takeSlot();
+      const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
+      e.colour = actor(colourMapper(poly, "albedo"), true);
+      e.id = actor(colourMapper(poly, "id"), false);
+    }
+    e.used = gl->frame;
+    return e;
+  }
+
+  void forget() {
+    for (auto it = gl->drawn.begin(); it != gl->drawn.end();)
+      if (it->second.used + kKeepRenders <= gl->frame) {
+        gl->free_slots.push_back(it->second.slot);
+        it = gl->drawn.erase(it);
+      } else {
+        ++it;
+      }
+    for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
+      it = it->second.used + kKeepRenders <= gl->frame ? gl->meshes.erase(it) : std::next(it);
+  }
+
+  CameraImages render(const RendererOptions& o, const scene::SceneWindow& window,
+                      const Eigen::Isometry3d& T_world_cam, const Lighting& lighting) {
+    if (!gl)
+      start(o);
+    ++gl->frame;
+    const Intrinsics& k = o.intrinsics;
+    CameraImages out;
+    out.width = k.width;
+    out.height = k.height;
+
+    // What is in view, in the window's order, placed relative to the camera.
+    const Eigen::Vector3d origin = T_world_cam.translation();
+    const Frustum frustum(k, o.near_m, o.far_m, T_world_cam.inverse());
+    std::vector<DrawnEntry*> list;
+    for (const auto& tile : window.tiles) {
+      for (std::size_t i = 0; i < tile->objects.size(); ++i) {
+        const scene::Object& object = tile->objects[i];
+        if (!frustum.meets(object.bounds))
+          continue;
+        DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object);
+        const Eigen::Matrix3d linear = object.linear.cast<double>();
+        setUserMatrix(e.colour, linear, object.position - origin);
+        setUserMatrix(e.id, linear, object.position - origin);
+        list.push_back(&e);
+        noteInstance(out, e.slot, object.instance);
+      }
+      for (std::size_t i = 0; i < tile->wires.size(); ++i) {
+        const scene::Wire& wire = tile->wires[i];
+        if (!frustum.meets(wireBounds(*tile, wire)))
+          continue;
+        DrawnEntry& e = wireEntry(
+            {tile->index, static_cast<std::uint32_t>(tile->objects.size() + i)}, tile, wire);
+        setUserMatrix(e.colour, Eigen::Matrix3d::Identity(), tile->origin - origin);
+        setUserMatrix(e.id, Eigen::Matrix3d::Identity(), tile->origin - origin);
+        list.push_back(&e);
+        noteInstance(out, e.slot, wire.instance);
+      }
+    }
+    for (const DrawnEntry* e : list)
+      out.triangles += e->triangles;
+    out.objects = static_cast<std::int64_t>(list.size());
+
+    // The camera at the origin looking along its z axis, y down.
+    vtkCamera* cam = gl->renderer->GetActiveCamera();
+    const Eigen::Matrix3d R = T_world_cam.linear();
+    const Eigen::Vector3d forward = R.col(2), up = -R.col(1);
+    cam->SetPosition(0.0, 0.0, 0.0);
+    cam->SetFocalPoint(forward.x(), forward.y(), forward.z());
+    cam->SetViewUp(up.x(), up.y(), up.z());
+
+    const std::size_t pixels = static_cast<std::size_t>(k.width) * k.height;
+    vtkRenderer* ren = gl->renderer;
+    if (o.passes.rgb || o.passes.depth) {
+      ren->RemoveAllViewProps();
+      for (DrawnEntry* e : list) {
+        vtkProperty* p = e->colour->GetProperty();
+        p->SetAmbient(lighting.ambient);
+        p->SetDiffuse(1.0 - lighting.ambient);
+        ren->AddActor(e->colour);
+      }
+      gl->sun->SetPosition(lighting.sun_direction.data());
+      gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
+      gl->sun->SetIntensity(lighting.sun_intensity);
+      ren->GradientBackgroundOn();
+      ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
+                         lighting.sky_horizon[2] / 255.0);
+      ren->SetBackground2(lighting.sky_zenith[0] / 255.0, lighting.sky_zenith[1] / 255.0,
+                          lighting.sky_zenith[2] / 255.0);
+      gl->window->Render();
+      if (o.passes.rgb) {
+        vtkNew<vtkUnsignedCharArray> rgb;
+        gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, rgb, 0);
+        out.rgb.resize(3 * pixels);
+        for (int y = 0; y < k.height; ++y)  // OpenGL's rows are bottom-up
+          std::copy_n(rgb->GetPointer(3 * static_cast<vtkIdType>(y) * k.width), 3 * k.width,
+                      out.rgb.data() + 3 * static_cast<std::size_t>(k.height - 1 - y) * k.width);
+      }
+      if (o.passes.depth) {
+        vtkNew<vtkFloatArray> z;
+        gl->window->GetZbufferData(0, 0, k.width - 1, k.height - 1, z);
+        out.depth.resize(pixels);
+        for (int y = 0; y < k.height; ++y)
+          for (int x = 0; x < k.width; ++x) {
+            const float d = z->GetValue(static_cast<vtkIdType>(y) * k.width + x);
+            out.depth[static_cast<std::size_t>(k.height - 1 - y) * k.width + x] =
+                d < 1.0f ? static_cast<float>(depthFromBuffer(d, o.near_m, o.far_m)) : 0.0f;
+          }
+      }
+    }
+    if (o.passes.semantic || o.passes.instance) {
+      ren->RemoveAllViewProps();
+      for (DrawnEntry* e : list)
+        ren->AddActor(e->id);
+      ren->GradientBackgroundOff();
+      ren->SetBackground(scene::cls::kSky / 255.0, 0.0, 0.0);
+      gl->window->Render();
+      vtkNew<vtkUnsignedCharArray> ids;
+      gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, ids, 0);
+      if (o.passes.semantic)
+        out.semantic.resize(pixels);
+      if (o.passes.instance)
+        out.object.resize(pixels);
+      for (int y = 0; y < k.height; ++y)
+        for (int x = 0; x < k.width; ++x) {
+          const unsigned char* c = ids->GetPointer(3 * (static_cast<vtkIdType>(y) * k.width + x));
+          const std::size_t i = static_cast<std::size_t>(k.height - 1 - y) * k.width + x;
+          if (o.passes.semantic)
+            out.semantic[i] = c[0];
+          if (o.passes.instance)
+            out.object[i] = static_cast<std::uint16_t>(c[1] << 8 | c[2]);
+        }
+    }
+    ren->RemoveAllViewProps();
+    forget();
+    return out;
+  }
+};
+
+Renderer::Renderer(RendererOptions options)
+    : options_(std::move(options)), impl_(std::make_unique<Impl>()) {
+  if (options_.intrinsics.width < 1 || options_.intrinsics.height < 1 || !(options_.near_m > 0.0) ||
+      !(options_.far_m > options_.near_m))
+    throw ConfigError("camera: the image must have pixels and 0 < near < far");
+}
+
+Renderer::~Renderer() = default;
+
+CameraImages Renderer::render(const scene::SceneWindow& window,
+                              const Eigen::Isometry3d& T_world_cam,
+                              const Lighting& lighting) const {
+  return impl_->thread->run([&] { return impl_->render(options_, window, T_world_cam, lighting); });
+}
+
+}  // namespace trainsim::camera

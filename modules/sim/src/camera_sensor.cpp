@@ -1,0 +1,368 @@
+#include "camera_sensor.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "trainsim/camera/renderer.hpp"
+#include "trainsim/core/error.hpp"
+#include "trainsim/core/frames.hpp"
+#include "trainsim/io/png.hpp"
+#include "trainsim/sim/instance_table.hpp"
+#include "trainsim/sim/sensor_params.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
+
+namespace trainsim::sim {
+namespace {
+
+namespace units = scenario::units;
+constexpr scenario::Unit kM = units::si("m");
+
+// Sun positions (azimuth from north, clockwise; elevation) of the daytime presets
+// (sensors-reference.md 7.5), or the explicit angles.
+enum class Daytime { kNoon, kMorning, kEvening, kCustom };
+constexpr EnumName<Daytime> kDaytimeNames[] = {{Daytime::kNoon, "noon"},
+                                               {Daytime::kMorning, "morning"},
+                                               {Daytime::kEvening, "evening"},
+                                               {Daytime::kCustom, "custom"}};
+constexpr std::span<const EnumName<Daytime>> enumNames(Daytime) {
+  return kDaytimeNames;
+}
+
+// sensors.cameras[]
+struct CameraConfig {
+  SensorBasics basics{"camera", 100'000'000, {Eigen::Vector3d(10.5, 0.0, 3.2)}};
+  int width = 1242, height = 375;
+  double hfov_rad = 81.6 * kRadPerDeg;  // KITTI's colour cameras: fx 718.9 px over 1242 px
+  double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;
+  double near_m = 0.5;
+  double far_m = 400.0;
+  double depth_max_m = 100.0;
+  bool rgb = true, depth = true, semantic = true, instance = true;
+  Daytime daytime = Daytime::kNoon;
+  double sun_azimuth_rad = 180.0 * kRadPerDeg, sun_elevation_rad = 55.0 * kRadPerDeg;
+  double fog_visibility_m = 0.0;
+};
+
+const scenario::Binding<CameraConfig>& cameraBinding() {
+  static const scenario::Binding<CameraConfig> binding = [] {
+    using C = CameraConfig;
+    scenario::Binding<C> b;
+    b.embed(&C::basics,
+            sensorBasics({"<name>.csv (one row per frame) and the image, depth, semantic and "
+                          "instance folders of its position in the list (image_2, depth_2, …; "
+                          "image_3, … for the second)",
+                          10'000'000, 10'000'000'000,
+                          "Frame period; it must equal dataset.frame_period_ns (KITTI pairs "
+                          "every image with a line of times.txt and poses.txt)",
+                          "Pose of the camera (x forward, y left, z up before KITTI's camera "
+                          "axes x right, y down, z forward are applied); the default is the "
+                          "windscreen"}));
+    b.integer("width", &C::width, "px", "Image width").range(16, 8192);
+    b.integer("height", &C::height, "px", "Image height").range(16, 8192);
+    b.number("horizontal_fov_deg", &C::hfov_rad, units::kDegree,
+             "Horizontal field of view, when fx is 0 (square pixels, principal point at the "
+             "centre)")
+        .range(1, 170);
+    b.number("fx", &C::fx, units::kNone, "Focal length in pixels; 0: from horizontal_fov_deg")
+        .range(0, 1e6);
+    b.number("fy", &C::fy, units::kNone, "Vertical focal length in pixels; 0: fx").range(0, 1e6);
+    b.number("cx", &C::cx, units::kNone,
+             "Principal point, pixels from the centre of the top-left pixel; 0 with cy 0: the "
+             "image centre")
+        .range(0, 1e6);
+    b.number("cy", &C::cy, units::kNone, "Principal point row (see cx)").range(0, 1e6);
+    b.number("near_m", &C::near_m, kM,
+             "Nothing nearer is drawn; the depth step at z is about z^2 / (near * 2^24): 1.2 mm "
+             "at 100 m for 0.5 m")
+        .range(0.05, 10);
+    b.number("draw_distance_m", &C::far_m, kM, "Nothing farther is drawn (the far plane)")
+        .range(10, 5000);
+    b.number("depth_max_m", &C::depth_max_m, kM,
+             "Depth images hold 0 beyond this (KITTI's 16-bit depth ends at 255.99 m)")
+        .range(1, 255);
+    b.boolean("rgb", &C::rgb, "Write image_N/*.png (8-bit RGB)");
+    b.boolean("depth", &C::depth,
+              "Write depth_N/*.png: uint16 metres * 256 along the optical axis, 0 for nothing "
+              "within depth_max_m (KITTI's depth convention)");
+    b.boolean("semantic", &C::semantic, "Write semantic_N/*.png: uint8 class id per pixel");
+    b.boolean("instance", &C::instance,
+              "Write instance_N/*.png: uint16 instance id per pixel, the id the LiDAR labels use "
+              "(instances.csv), 0 for stuff");
+    b.choice("daytime", &C::daytime,
+             "Sun position: noon (south, 55 deg up), morning (east, 15 deg), evening (west, 10 "
+             "deg) or custom (sun_azimuth_deg, sun_elevation_deg)");
+    b.number("sun_azimuth_deg", &C::sun_azimuth_rad, units::kDegree,
+             "Custom sun azimuth, clockwise from north (world y)")
+        .range(0, 360);
+    b.number("sun_elevation_deg", &C::sun_elevation_rad, units::kDegree,
+             "Custom sun elevation above the horizon")
+        .range(0, 90);
+    b.number("fog_visibility_m", &C::fog_visibility_m, kM,
+             "Meteorological visibility of fog (2 % contrast, Koschmieder: extinction 3.912 / "
+             "visibility, applied by each pixel's range); 0: clear")
+        .range(0, 100000);
+    b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
+      if (c.near_m >= c.far_m)
+        out.push_back({at(c.near_m), "must be below " + at.key(c.far_m)});
+      if (c.depth && c.depth_max_m > c.far_m)
+        out.push_back({at(c.depth_max_m), "must not exceed " + at.key(c.far_m)});
+      if (!c.rgb && !c.depth && !c.semantic && !c.instance)
+        out.push_back({at(c.rgb), "a camera must write at least one image"});
+    });
+    return b;
+  }();
+  return binding;
+}
+
+camera::Intrinsics intrinsics(const CameraConfig& c) {
+  camera::Intrinsics k = camera::Intrinsics::fromHorizontalFov(c.width, c.height, c.hfov_rad);
+  if (c.fx > 0.0) {
+    k.fx = c.fx;
+    k.fy = c.fy > 0.0 ? c.fy : c.fx;
+  }
+  if (c.cx > 0.0 || c.cy > 0.0) {
+    k.cx = c.cx;
+    k.cy = c.cy;
+  }
+  return k;
+}
+
+camera::Lighting lighting(const CameraConfig& c) {
+  double az = c.sun_azimuth_rad, el = c.sun_elevation_rad;
+  switch (c.daytime) {
+    case Daytime::kNoon:
+      az = 180.0 * kRadPerDeg, el = 55.0 * kRadPerDeg;
+      break;
+    case Daytime::kMorning:
+      az = 90.0 * kRadPerDeg, el = 15.0 * kRadPerDeg;
+      break;
+    case Daytime::kEvening:
+      az = 270.0 * kRadPerDeg, el = 10.0 * kRadPerDeg;
+      break;
+    case Daytime::kCustom:
+      break;
+  }
+  camera::Lighting l;
+  // World axes: x east, y north, z up.
+  l.sun_direction =
+      Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+  // A low sun lights less, and the sky's light is a larger share.
+  l.sun_intensity = 0.55 + 0.45 * std::sin(el);
+  return l;
+}
+
+// One frame's images, rendered in render(); the instance ids wait for commit().
+struct CameraFrame {
+  camera::CameraImages images;
+  std::string rgb_png, depth_png, semantic_png;  // made in render()
+};
+
+class CameraSensor final : public SensorOf<CameraFrame> {
+ public:
+  CameraSensor(const SensorSetup& setup, const CameraConfig& c)
+      : trajectory_(setup.context.trajectory),
+        scene_(setup.context.scene),
+        instances_(setup.context.instances),
+        name_(c.basics.name),
+        period_(c.basics.period_ns),
+        index_(setup.index),
+        cameras_(setup.count),
+        T_body_cam0_(setup.context.T_body_cam0),
+        config_(c),
+        lighting_(lighting(c)),
+        renderer_(rendererOptions(c)) {
+    if (scene_ == nullptr || instances_ == nullptr)
+      throw RuntimeError(
+          fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
+    T_body_cam_ = cameraBodyPose(setup.config);
+  }
+
+  std::string name() const override { return name_; }
+  std::string kind() const override { return kCameraKind; }
+  TimeNs period() const override { return period_; }
+  std::vector<std::string> outputs() const override {
+    std::vector<std::string> files = sensorFiles(kReadingsCsv, name_);
+    if (config_.rgb)
+      files.push_back(io::DatasetLayout::imageFolder(index_) + "/");
+    if (config_.depth)
+      files.push_back(io::DatasetLayout::depthFolder(index_) + "/");
+    if (config_.semantic)
+      files.push_back(io::DatasetLayout::semanticFolder(index_) + "/");
+    if (config_.instance)
+      files.push_back(io::DatasetLayout::instanceFolder(index_) + "/");
+    return files;
+  }
+
+  // P_{index + 2} (image_{index + 2}) projects points in camera 0's frame (Tr's and poses.txt's)
+  // into this camera's image. P0–P3 are always written, as KITTI's readers expect all four:
+  // camera 0 also writes P0 and P1, and P3 when it is the only camera.
+  std::vector<std::string> calibration() const override {
+    Eigen::Matrix<double, 3, 4> P;
+    const Eigen::Isometry3d T_cam_cam0 = T_body_cam_.inverse() * T_body_cam0_;
+    P = renderer_.options().intrinsics.matrix() * T_cam_cam0.matrix().topRows<3>();
+    const auto line = [&](int n) {
+      std::string s = fmt::format("P{}:", n);
+      for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 4; ++col)
+          fmt::format_to(std::back_inserter(s), " {:.12e}", P(r, col));
+      return s;
+    };
+    std::vector<std::string> lines;
+    if (index_ == 0) {
+      lines.push_back(line(0));
+      lines.push_back(line(1));
+    }
+    lines.push_back(line(index_ + 2));
+    if (index_ == 0 && cameras_ == 1)
+      lines.push_back(line(3));
+    return lines;
+  }
+
+  void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
+    writer_ = &writer;
+    csv_ = &writer.appendFile(writer.layout().inSequence(outputs().front()));
+    if (state.is_null())
+      csv_->write("frame,t_ns,objects,triangles\n");
+  }
+
+  // Stateless, but not null: a resumed run must not write the CSV header again.
+  nlohmann::json state() const override { return nlohmann::json::object(); }
+
+ private:
+  static camera::RendererOptions rendererOptions(const CameraConfig& c) {
+    camera::RendererOptions o;
+    o.intrinsics = intrinsics(c);
+    o.near_m = c.near_m;
+    o.far_m = c.far_m;
+    o.passes = {c.rgb || c.fog_visibility_m > 0.0, c.depth || c.fog_visibility_m > 0.0,
+                c.semantic || c.instance, c.semantic || c.instance};
+    return o;
+  }
+
+  Eigen::Isometry3d worldPose(std::int64_t k) const {
+    const TrajectorySample s = trajectory_.sample(k);
+    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+    T_world_body.linear() = s.q_world_body.toRotationMatrix();
+    T_world_body.translation() = s.p_world;
+    return T_world_body * T_body_cam_;
+  }
+
+  // Fog by each pixel's range r (Beer–Lambert with Koschmieder's extinction 3.912 / V): the
+  // surface's colour fades to the fog's as e^(−βr); the sky, at no range, is the fog's colour.
+  void applyFog(camera::CameraImages& img) const {
+    const double beta = 3.912 / config_.fog_visibility_m;
+    const camera::Intrinsics& k = renderer_.options().intrinsics;
+    constexpr double kFog[3] = {200.0, 204.0, 208.0};
+    for (int v = 0; v < img.height; ++v)
+      for (int u = 0; u < img.width; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * img.width + u;
+        const double z = img.depth[i];
+        const double x = (u - k.cx) / k.fx, y = (v - k.cy) / k.fy;
+        const double keep = z > 0.0 ? std::exp(-beta * z * std::sqrt(1.0 + x * x + y * y)) : 0.0;
+        for (int ch = 0; ch < 3; ++ch) {
+          std::uint8_t& c = img.rgb[3 * i + ch];
+          c = static_cast<std::uint8_t>(std::lround(keep * c + (1.0 - keep) * kFog[ch]));
+        }
+      }
+  }
+
+  CameraFrame read(std::int64_t k) const override {
+    const Eigen::Isometry3d T = worldPose(k);
+    const scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
+    CameraFrame out;
+    out.images = renderer_.render(window, T, lighting_);
+    camera::CameraImages& img = out.images;
+    if (config_.fog_visibility_m > 0.0)
+      applyFog(img);
+    if (config_.rgb)
+      out.rgb_png = io::encodePngRgb8(img.width, img.height, img.rgb);
+    if (config_.depth) {
+      std::vector<std::uint16_t> depth(img.depth.size());
+      for (std::size_t i = 0; i < depth.size(); ++i) {
+        const double z = img.depth[i];
+        depth[i] = z > 0.0 && z <= config_.depth_max_m
+                       ? static_cast<std::uint16_t>(std::min(65535L, std::lround(z * 256.0)))
+                       : 0;
+      }
+      out.depth_png = io::encodePngGray16(img.width, img.height, depth);
+    }
+    if (config_.semantic)
+      out.semantic_png = io::encodePngGray8(img.width, img.height, img.semantic);
+    return out;
+  }
+
+  void write(std::int64_t k, CameraFrame& f) override {
+    const std::int64_t frame = k / (period_ / trajectory_.samplePeriod());
+    const io::DatasetLayout& layout = writer_->layout();
+    const auto file = [&](const std::string& folder) {
+      return layout.inSequence(io::DatasetLayout::frameFile(folder, frame, "png"));
+    };
+    if (config_.rgb)
+      writer_->writeFile(file(io::DatasetLayout::imageFolder(index_)), f.rgb_png);
+    if (config_.depth)
+      writer_->writeFile(file(io::DatasetLayout::depthFolder(index_)), f.depth_png);
+    if (config_.semantic)
+      writer_->writeFile(file(io::DatasetLayout::semanticFolder(index_)), f.semantic_png);
+    if (config_.instance) {
+      // The sequence's ids, numbered as objects first appear in raster order (the LiDARs of
+      // the same sample committed theirs before).
+      const camera::CameraImages& img = f.images;
+      std::vector<std::int32_t> ids(img.instances.size(), -1);
+      std::vector<std::uint16_t> pixels(img.object.size());
+      for (std::size_t i = 0; i < pixels.size(); ++i) {
+        std::int32_t& id = ids[img.object[i]];
+        if (id < 0)
+          id = instances_->id(img.instances[img.object[i]], img.semantic[i]);
+        pixels[i] = static_cast<std::uint16_t>(id);
+      }
+      writer_->writeFile(file(io::DatasetLayout::instanceFolder(index_)),
+                         io::encodePngGray16(img.width, img.height, pixels));
+    }
+    csv_->write(fmt::format("{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
+                            f.images.objects, f.images.triangles));
+  }
+
+  const Trajectory& trajectory_;
+  scene::SceneStream* scene_;
+  std::shared_ptr<InstanceTable> instances_;
+  std::string name_;
+  TimeNs period_;
+  int index_;
+  int cameras_;
+  Eigen::Isometry3d T_body_cam0_, T_body_cam_;
+  CameraConfig config_;
+  camera::Lighting lighting_;
+  camera::Renderer renderer_;
+  io::DatasetWriter* writer_ = nullptr;
+  io::AppendFile* csv_ = nullptr;
+};
+
+}  // namespace
+
+scenario::Param declareCamera() {
+  return cameraBinding().declare(
+      "camera",
+      "A camera rendered with VTK (offscreen OpenGL; an X server, or Xvfb started for the run): "
+      "KITTI image_N/*.png, depth_N/*.png (uint16 m * 256), semantic_N/*.png (class ids) and "
+      "instance_N/*.png (the LiDAR labels' instance ids), one file each per frame.");
+}
+
+void checkCamera(const scenario::Json& item, const std::string& path,
+                 std::vector<scenario::Problem>& problems) {
+  cameraBinding().problems(cameraBinding().read(item), path, problems);
+}
+
+std::unique_ptr<Sensor> createCamera(const SensorSetup& setup) {
+  return std::make_unique<CameraSensor>(setup, cameraBinding().read(setup.config));
+}
+
+Eigen::Isometry3d cameraBodyPose(const scenario::Json& item) {
+  const Mount mount = readMount(item);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = mount.r_body_sensor * rotationBodyFromKittiCamera();
+  T.translation() = mount.position_m;
+  return T;
+}
+
+}  // namespace trainsim::sim

@@ -1,0 +1,59 @@
+// The pinhole model's OpenGL projection against its own pixel projection, without rendering.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "trainsim/camera/camera_model.hpp"
+
+namespace trainsim {
+namespace {
+
+using camera::Intrinsics;
+
+// Where OpenGL puts a camera-frame point: clip = P · eye, window = (ndc + 1) / 2 · size, and the
+// pixel-centre coordinate is window − 0.5 (rows counted from the top).
+Eigen::Vector3d glPixel(const Intrinsics& k, const Eigen::Matrix4d& P, const Eigen::Vector3d& p) {
+  const Eigen::Vector4d eye(p.x(), -p.y(), -p.z(), 1.0);
+  const Eigen::Vector4d clip = P * eye;
+  const Eigen::Vector3d ndc = clip.head<3>() / clip.w();
+  const double wx = (ndc.x() + 1.0) / 2.0 * k.width, wy = (ndc.y() + 1.0) / 2.0 * k.height;
+  return {wx - 0.5, k.height - wy - 0.5, (ndc.z() + 1.0) / 2.0};
+}
+
+TEST(CameraModel, TheOpenGlProjectionLandsWhereThePinholeDoes) {
+  Intrinsics k;
+  k.width = 1242;
+  k.height = 375;
+  k.fx = 718.856;
+  k.fy = 712.0;  // not square, and the principal point off centre
+  k.cx = 607.19;
+  k.cy = 185.22;
+  const double n = 0.5, f = 400.0;
+  const Eigen::Matrix4d P = k.glProjection(n, f);
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.0, 0.0, 10.0), Eigen::Vector3d(-3.0, 1.2, 7.5),
+        Eigen::Vector3d(40.0, -8.0, 90.0), Eigen::Vector3d(-0.2, 0.1, 0.6)}) {
+    const Eigen::Vector3d g = glPixel(k, P, p);
+    const Eigen::Vector2d uv = k.project(p);
+    EXPECT_NEAR(g.x(), uv.x(), 1e-9);
+    EXPECT_NEAR(g.y(), uv.y(), 1e-9);
+    // The depth buffer's value maps back to the point's depth.
+    EXPECT_NEAR(camera::depthFromBuffer(g.z(), n, f), p.z(), 1e-9 * p.z());
+  }
+  EXPECT_NEAR(camera::depthFromBuffer(0.0, n, f), n, 1e-12);
+  EXPECT_NEAR(camera::depthFromBuffer(1.0, n, f), f, 1e-9);
+}
+
+TEST(CameraModel, AHorizontalFieldOfViewGivesSquarePixelsCentred) {
+  const Intrinsics k = Intrinsics::fromHorizontalFov(1242, 375, 90.0 * std::numbers::pi / 180.0);
+  EXPECT_DOUBLE_EQ(k.fx, 621.0);
+  EXPECT_DOUBLE_EQ(k.fy, 621.0);
+  // The image's edges (pixel borders at −0.5 and W − 0.5) at ±45°.
+  EXPECT_NEAR(k.project({-1.0, 0.0, 1.0}).x(), -0.5, 1e-12);
+  EXPECT_NEAR(k.project({1.0, 0.0, 1.0}).x(), 1241.5, 1e-12);
+  EXPECT_NEAR(k.project({0.0, 0.0, 1.0}).y(), 187.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace trainsim
