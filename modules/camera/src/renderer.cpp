@@ -118,8 +118,7 @@ struct MeshEntry {
 
 // An object (or a wire) as drawn: its actors for the two passes and its id slot.
 struct DrawnEntry {
-  const scene::Mesh* mesh = nullptr;  // null for a wire
-  std::shared_ptr<const scene::Tile> tile;
+  std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive
   vtkSmartPointer<vtkActor> colour, id;
   std::uint32_t slot = 0;
   std::int64_t triangles = 0;
@@ -213,15 +212,16 @@ vtkSmartPointer<vtkPolyData> wirePolyData(const scene::Wire& wire, std::uint32_t
   return poly;
 }
 
-void setUserMatrix(vtkActor* actor, const Eigen::Matrix3d& linear,
-                   const Eigen::Vector3d& translation) {
+// Places both of a drawn thing's actors (one matrix shared by the two passes).
+void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation) {
   vtkNew<vtkMatrix4x4> m;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c)
       m->SetElement(r, c, linear(r, c));
     m->SetElement(r, 3, translation[r]);
   }
-  actor->SetUserMatrix(m);
+  e.colour->SetUserMatrix(m);
+  e.id->SetUserMatrix(m);
 }
 
 // The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
@@ -363,40 +363,44 @@ struct Renderer::Impl {
     return a;
   }
 
-  DrawnEntry& objectEntry(std::pair<scene::TileIndex, std::uint32_t> key,
-                          const std::shared_ptr<const scene::Tile>& tile,
-                          const scene::Object& object) {
+  // The entry of the thing at `key` of `tile`, marked as used; a new one (no actors yet, a slot
+  // taken) if there was none or it was made from an earlier copy of the tile.
+  DrawnEntry& entry(std::pair<scene::TileIndex, std::uint32_t> key,
+                    const std::shared_ptr<const scene::Tile>& tile) {
     DrawnEntry& e = gl->drawn[key];
-    if (e.colour && e.mesh != object.mesh.get())
-      e = DrawnEntry{};  // the tile was made again since
+    if (e.colour && e.tile != tile) {  // the tile was made again since
+      gl->free_slots.push_back(e.slot);
+      e = DrawnEntry{};
+    }
     if (!e.colour) {
-      const MeshEntry& m = meshEntry(object.mesh);
-      e.mesh = object.mesh.get();
       e.tile = tile;
       e.slot = takeSlot();
-      e.triangles = static_cast<std::int64_t>(object.mesh->triangles.size());
-      e.colour = actor(m.mapper, true);
-      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), false);
-    } else {
-      meshEntry(object.mesh);
     }
     e.used = gl->frame;
     return e;
   }
 
+  DrawnEntry& objectEntry(std::pair<scene::TileIndex, std::uint32_t> key,
+                          const std::shared_ptr<const scene::Tile>& tile,
+                          const scene::Object& object) {
+    DrawnEntry& e = entry(key, tile);
+    const MeshEntry& m = meshEntry(object.mesh);
+    if (!e.colour) {
+      e.triangles = static_cast<std::int64_t>(object.mesh->triangles.size());
+      e.colour = actor(m.mapper, true);
+      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), false);
+    }
+    return e;
+  }
+
   DrawnEntry& wireEntry(std::pair<scene::TileIndex, std::uint32_t> key,
                         const std::shared_ptr<const scene::Tile>& tile, const scene::Wire& wire) {
-    DrawnEntry& e = gl->drawn[key];
-    if (e.colour && e.tile != tile)
-      e = DrawnEntry{};
+    DrawnEntry& e = entry(key, tile);
     if (!e.colour) {
-      e.tile = tile;
-      e.slot = takeSlot();
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
       e.colour = actor(colourMapper(poly, "albedo"), true);
       e.id = actor(colourMapper(poly, "id"), false);
     }
-    e.used = gl->frame;
     return e;
   }
 
@@ -432,9 +436,7 @@ struct Renderer::Impl {
         if (!frustum.meets(object.bounds))
           continue;
         DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object);
-        const Eigen::Matrix3d linear = object.linear.cast<double>();
-        setUserMatrix(e.colour, linear, object.position - origin);
-        setUserMatrix(e.id, linear, object.position - origin);
+        place(e, object.linear.cast<double>(), object.position - origin);
         list.push_back(&e);
         noteInstance(out, e.slot, object.instance);
       }
@@ -444,8 +446,7 @@ struct Renderer::Impl {
           continue;
         DrawnEntry& e = wireEntry(
             {tile->index, static_cast<std::uint32_t>(tile->objects.size() + i)}, tile, wire);
-        setUserMatrix(e.colour, Eigen::Matrix3d::Identity(), tile->origin - origin);
-        setUserMatrix(e.id, Eigen::Matrix3d::Identity(), tile->origin - origin);
+        place(e, Eigen::Matrix3d::Identity(), tile->origin - origin);
         list.push_back(&e);
         noteInstance(out, e.slot, wire.instance);
       }

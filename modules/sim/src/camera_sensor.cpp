@@ -198,9 +198,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   // into this camera's image. P0–P3 are always written, as KITTI's readers expect all four:
   // camera 0 also writes P0 and P1, and P3 when it is the only camera.
   std::vector<std::string> calibration() const override {
-    Eigen::Matrix<double, 3, 4> P;
     const Eigen::Isometry3d T_cam_cam0 = T_body_cam_.inverse() * T_body_cam0_;
-    P = renderer_.options().intrinsics.matrix() * T_cam_cam0.matrix().topRows<3>();
+    const Eigen::Matrix<double, 3, 4> P =
+        renderer_.options().intrinsics.matrix() * T_cam_cam0.matrix().topRows<3>();
     const auto line = [&](int n) {
       std::string s = fmt::format("P{}:", n);
       for (int r = 0; r < 3; ++r)
@@ -235,17 +235,10 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     o.intrinsics = intrinsics(c);
     o.near_m = c.near_m;
     o.far_m = c.far_m;
-    o.passes = {c.rgb || c.fog_visibility_m > 0.0, c.depth || c.fog_visibility_m > 0.0,
-                c.semantic || c.instance, c.semantic || c.instance};
+    // Fog needs each pixel's range, so a foggy colour image needs the depth pass too.
+    o.passes = {c.rgb, c.depth || (c.rgb && c.fog_visibility_m > 0.0), c.semantic || c.instance,
+                c.semantic || c.instance};
     return o;
-  }
-
-  Eigen::Isometry3d worldPose(std::int64_t k) const {
-    const TrajectorySample s = trajectory_.sample(k);
-    Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
-    T_world_body.linear() = s.q_world_body.toRotationMatrix();
-    T_world_body.translation() = s.p_world;
-    return T_world_body * T_body_cam_;
   }
 
   // Fog by each pixel's range r (Beer–Lambert with Koschmieder's extinction 3.912 / V): the
@@ -268,12 +261,12 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   }
 
   CameraFrame read(std::int64_t k) const override {
-    const Eigen::Isometry3d T = worldPose(k);
+    const Eigen::Isometry3d T = trajectory_.sample(k).pose() * T_body_cam_;
     const scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
     CameraFrame out;
     out.images = renderer_.render(window, T, lighting_);
     camera::CameraImages& img = out.images;
-    if (config_.fog_visibility_m > 0.0)
+    if (config_.rgb && config_.fog_visibility_m > 0.0)
       applyFog(img);
     if (config_.rgb)
       out.rgb_png = io::encodePngRgb8(img.width, img.height, img.rgb);

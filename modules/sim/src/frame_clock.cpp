@@ -2,27 +2,14 @@
 
 #include <fmt/format.h>
 
-#include "trainsim/core/frames.hpp"
-
 namespace trainsim::sim {
-namespace {
-
-Eigen::Isometry3d cameraPose(const TrajectorySample& s, const Eigen::Isometry3d& T_body_cam) {
-  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
-  T_world_body.linear() = s.q_world_body.toRotationMatrix();
-  T_world_body.translation() = s.p_world;
-  return T_world_body * T_body_cam;
-}
-
-}  // namespace
-
 FrameClock::FrameClock(TimeNs period, const Trajectory& trajectory,
                        const Eigen::Isometry3d& T_body_cam0)
     : trajectory_(trajectory),
       period_(period),
       T_body_cam0_(T_body_cam0),
       T_cam0_world_first_(trajectory.sampleCount() > 0
-                              ? cameraPose(trajectory.sample(0), T_body_cam0).inverse()
+                              ? (trajectory.sample(0).pose() * T_body_cam0).inverse()
                               : Eigen::Isometry3d::Identity()) {}
 
 void FrameClock::begin(io::DatasetWriter& writer, const nlohmann::json& /*state*/) {
@@ -35,7 +22,7 @@ FrameLines FrameClock::read(std::int64_t k) const {
   const TrajectorySample sample = trajectory_.sample(k);
   // Relative to frame 0, so positions stay small and 12 significant digits keep sub-micrometre
   // resolution even for long routes far from the scenario origin.
-  const Eigen::Isometry3d T = T_cam0_world_first_ * cameraPose(sample, T_body_cam0_);
+  const Eigen::Isometry3d T = T_cam0_world_first_ * (sample.pose() * T_body_cam0_);
   const Eigen::Matrix<double, 3, 4> m = T.matrix().topRows<3>();
   return {fmt::format("{}.{:09}\n", sample.t_ns / kNsPerSecond, sample.t_ns % kNsPerSecond),
           fmt::format("{:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} "

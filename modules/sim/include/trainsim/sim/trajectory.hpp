@@ -25,6 +25,14 @@ struct TrajectorySample {
   Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();  ///< angular acceleration, body axes
   double speed_m_s = 0.0;                                ///< along the track
   double accel_m_s2 = 0.0;  ///< along the track (dv/dt of the front pivot)
+
+  /// Body → world: the body's attitude at its reference point.
+  Eigen::Isometry3d pose() const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = q_world_body.toRotationMatrix();
+    T.translation() = p_world;
+    return T;
+  }
 };
 
 /// Ground truth: the train's state at any time in closed form, and the fixed sample clock
