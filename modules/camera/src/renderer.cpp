@@ -22,6 +22,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPropCollection.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
@@ -120,6 +121,7 @@ struct MeshEntry {
 struct DrawnEntry {
   std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive
   vtkSmartPointer<vtkActor> colour, id;
+  bool shares_colour_mapper = false;  // an object's colour actor draws its mesh's mapper
   std::uint32_t slot = 0;
   std::int64_t triangles = 0;
   std::uint64_t used = 0;
@@ -285,6 +287,7 @@ struct Renderer::Impl {
     vtkNew<vtkRenderWindow> window;
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkLight> sun;
+    vtkNew<vtkProperty> lit, unlit;  // the colour pass's and the id pass's (see actor())
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
     std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
@@ -318,6 +321,11 @@ struct Renderer::Impl {
     gl->sun->SetLightTypeToSceneLight();
     gl->sun->SetPositional(false);
     gl->renderer->AddLight(gl->sun);
+    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get()}) {
+      p->SetInterpolationToFlat();
+      p->SetSpecular(0.0);
+    }
+    gl->unlit->LightingOff();  // the id pass: the colour exactly as given
     vtkCamera* cam = gl->renderer->GetActiveCamera();
     cam->SetPosition(0.0, 0.0, 0.0);
     cam->SetClippingRange(o.near_m, o.far_m);
@@ -352,14 +360,15 @@ struct Renderer::Impl {
     return gl->next_slot++;
   }
 
-  static vtkSmartPointer<vtkActor> actor(vtkPolyDataMapper* mapper, bool lit) {
+  // A mapper rebuilds its vertex and index buffers whenever the property of the actor it draws
+  // is another one, or was modified (vtkOpenGLPolyDataMapper::GetNeedToRebuildBufferObjects):
+  // so all actors of a pass share one property, or a mesh shared by many objects would be
+  // uploaded again for each of them, every frame.
+  static vtkSmartPointer<vtkActor> actor(vtkPolyDataMapper* mapper, vtkProperty* property) {
     auto a = vtkSmartPointer<vtkActor>::New();
     a->SetMapper(mapper);
-    vtkProperty* p = a->GetProperty();
-    p->SetInterpolationToFlat();
-    p->SetSpecular(0.0);
-    if (!lit)  // the id pass: the colour exactly as given
-      p->LightingOff();
+    a->SetProperty(property);
+    a->ForceOpaqueOn();  // saves scanning the colours for alpha on every render
     return a;
   }
 
@@ -368,10 +377,8 @@ struct Renderer::Impl {
   DrawnEntry& entry(std::pair<scene::TileIndex, std::uint32_t> key,
                     const std::shared_ptr<const scene::Tile>& tile) {
     DrawnEntry& e = gl->drawn[key];
-    if (e.colour && e.tile != tile) {  // the tile was made again since
-      gl->free_slots.push_back(e.slot);
-      e = DrawnEntry{};
-    }
+    if (e.colour && e.tile != tile)  // the tile was made again since
+      drop(e);
     if (!e.colour) {
       e.tile = tile;
       e.slot = takeSlot();
@@ -387,8 +394,9 @@ struct Renderer::Impl {
     const MeshEntry& m = meshEntry(object.mesh);
     if (!e.colour) {
       e.triangles = static_cast<std::int64_t>(object.mesh->triangles.size());
-      e.colour = actor(m.mapper, true);
-      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), false);
+      e.colour = actor(m.mapper, gl->lit);
+      e.shares_colour_mapper = true;
+      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), gl->unlit);
     }
     return e;
   }
@@ -398,22 +406,49 @@ struct Renderer::Impl {
     DrawnEntry& e = entry(key, tile);
     if (!e.colour) {
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
-      e.colour = actor(colourMapper(poly, "albedo"), true);
-      e.id = actor(colourMapper(poly, "id"), false);
+      e.colour = actor(colourMapper(poly, "albedo"), gl->lit);
+      e.id = actor(colourMapper(poly, "id"), gl->unlit);
     }
     return e;
+  }
+
+  // Frees an entry's OpenGL buffers (a shared mesh's go with the mesh's entry) and its slot.
+  void drop(DrawnEntry& e) {
+    if (e.colour && !e.shares_colour_mapper)
+      e.colour->ReleaseGraphicsResources(gl->window);
+    if (e.id)
+      e.id->ReleaseGraphicsResources(gl->window);
+    gl->free_slots.push_back(e.slot);
+    e = DrawnEntry{};
   }
 
   void forget() {
     for (auto it = gl->drawn.begin(); it != gl->drawn.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
-        gl->free_slots.push_back(it->second.slot);
+        drop(it->second);
         it = gl->drawn.erase(it);
       } else {
         ++it;
       }
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
-      it = it->second.used + kKeepRenders <= gl->frame ? gl->meshes.erase(it) : std::next(it);
+      if (it->second.used + kKeepRenders <= gl->frame) {
+        it->second.mapper->ReleaseGraphicsResources(gl->window);
+        it = gl->meshes.erase(it);
+      } else {
+        ++it;
+      }
+  }
+
+  // Makes `actors` the renderer's props, in this order. The collection is set directly:
+  // vtkViewport's Add/RemoveViewProp would free each removed actor's OpenGL buffers and shaders,
+  // so every frame would upload all geometry and compile all shaders again (3/4 of a frame's
+  // time); here an actor keeps them as long as its entry lives (drop()). The order is the
+  // window's, so which of two surfaces at the same depth wins never depends on history.
+  void show(const std::vector<vtkActor*>& actors) {
+    vtkPropCollection* props = gl->renderer->GetViewProps();
+    props->RemoveAllItems();
+    for (vtkActor* a : actors)
+      props->AddItem(a);
   }
 
   CameraImages render(const RendererOptions& o, const scene::SceneWindow& window,
@@ -433,7 +468,7 @@ struct Renderer::Impl {
     for (const auto& tile : window.tiles) {
       for (std::size_t i = 0; i < tile->objects.size(); ++i) {
         const scene::Object& object = tile->objects[i];
-        if (!frustum.meets(object.bounds))
+        if (o.cull && !frustum.meets(object.bounds))
           continue;
         DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object);
         place(e, object.linear.cast<double>(), object.position - origin);
@@ -442,7 +477,7 @@ struct Renderer::Impl {
       }
       for (std::size_t i = 0; i < tile->wires.size(); ++i) {
         const scene::Wire& wire = tile->wires[i];
-        if (!frustum.meets(wireBounds(*tile, wire)))
+        if (o.cull && !frustum.meets(wireBounds(*tile, wire)))
           continue;
         DrawnEntry& e = wireEntry(
             {tile->index, static_cast<std::uint32_t>(tile->objects.size() + i)}, tile, wire);
@@ -465,14 +500,13 @@ struct Renderer::Impl {
 
     const std::size_t pixels = static_cast<std::size_t>(k.width) * k.height;
     vtkRenderer* ren = gl->renderer;
+    std::vector<vtkActor*> actors(list.size());
     if (o.passes.rgb || o.passes.depth) {
-      ren->RemoveAllViewProps();
-      for (DrawnEntry* e : list) {
-        vtkProperty* p = e->colour->GetProperty();
-        p->SetAmbient(lighting.ambient);
-        p->SetDiffuse(1.0 - lighting.ambient);
-        ren->AddActor(e->colour);
-      }
+      std::transform(list.begin(), list.end(), actors.begin(),
+                     [](const DrawnEntry* e) { return e->colour.Get(); });
+      show(actors);
+      gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
+      gl->lit->SetDiffuse(1.0 - lighting.ambient);
       gl->sun->SetPosition(lighting.sun_direction.data());
       gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
       gl->sun->SetIntensity(lighting.sun_intensity);
@@ -503,9 +537,9 @@ struct Renderer::Impl {
       }
     }
     if (o.passes.semantic || o.passes.instance) {
-      ren->RemoveAllViewProps();
-      for (DrawnEntry* e : list)
-        ren->AddActor(e->id);
+      std::transform(list.begin(), list.end(), actors.begin(),
+                     [](const DrawnEntry* e) { return e->id.Get(); });
+      show(actors);
       ren->GradientBackgroundOff();
       ren->SetBackground(scene::cls::kSky / 255.0, 0.0, 0.0);
       gl->window->Render();
@@ -525,7 +559,7 @@ struct Renderer::Impl {
             out.object[i] = static_cast<std::uint16_t>(c[1] << 8 | c[2]);
         }
     }
-    ren->RemoveAllViewProps();
+    show({});
     forget();
     return out;
   }

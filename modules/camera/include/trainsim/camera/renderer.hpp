@@ -39,6 +39,9 @@ struct RendererOptions {
   double near_m = 0.5;
   double far_m = 400.0;
   Passes passes;
+  /// Draw only what meets the view frustum (off: everything in the window, the benchmark's
+  /// baseline; the images are the same).
+  bool cull = true;
 };
 
 /// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).
