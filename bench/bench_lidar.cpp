@@ -27,16 +27,9 @@
 namespace {
 
 using namespace trainsim;
-using Clock = std::chrono::steady_clock;
-
-double ms(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using bench::Clock;
+using bench::median;
+using bench::ms;
 
 constexpr int kThreads = 2;
 constexpr int kRepeats = 7;

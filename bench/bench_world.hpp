@@ -1,13 +1,29 @@
 #pragma once
-// The default scenario's world for the benchmarks: its plan and its environment, with the
-// route's length changed when asked.
+// The default scenario's world for the benchmarks (its plan and its environment, with the
+// route's length changed when asked) and their timing helpers.
+#include <algorithm>
+#include <chrono>
 #include <memory>
+#include <vector>
 
 #include "trainsim/scenario/scenario.hpp"
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
 
 namespace trainsim::bench {
+
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds since t0.
+inline double ms(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// The median of repeated timings.
+inline double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
 
 struct World {
   scenario::Scenario scenario;

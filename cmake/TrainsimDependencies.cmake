@@ -33,6 +33,9 @@ endif()
 # component found first (docs/REFERENCES.md P5).
 find_package(MPI COMPONENTS C)
 set(TRAINSIM_VTK_COMPONENTS CommonCore CommonDataModel IOXML RenderingCore RenderingOpenGL2)
+if(TRAINSIM_BUILD_TESTS)  # the cameras' image regression tests (PNGs, vtkImageDifference)
+  list(APPEND TRAINSIM_VTK_COMPONENTS IOImage ImagingCore)
+endif()
 if(TRAINSIM_BUILD_STUDIO)
   list(APPEND TRAINSIM_VTK_COMPONENTS FiltersSources GUISupportQt InteractionStyle
        RenderingAnnotation RenderingFreeType)
@@ -41,6 +44,9 @@ find_package(VTK 9.1 REQUIRED COMPONENTS ${TRAINSIM_VTK_COMPONENTS})
 # PCL 1.13: LiDAR scans as PCD files (io) and the tests' read-back. Its config needs MPI's C
 # component too; only its libraries are used (not PCL_DEFINITIONS, which would set the ISA).
 find_package(PCL 1.13 REQUIRED COMPONENTS common io)
+# OpenCV 4.6: the cameras' lens distortion (undistortPoints, remap). Debian's config lives in
+# libopencv-dev and checks that every module's library is installed.
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc calib3d)
 
 # The studio's Qt 5 and QCustomPlot, found here so the GUI tests see the same targets.
 if(TRAINSIM_BUILD_STUDIO)

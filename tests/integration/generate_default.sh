@@ -37,12 +37,24 @@ for d in image_2 depth_2 semantic_2 instance_2; do
 done
 [ "$(cut -d: -f1 "$WORK/a/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr " ] &&
   pass "calib.txt: P0 P1 P2 P3 Tr" || fail "calib.txt keys: $(cut -d: -f1 "$WORK/a/sequences/00/calib.txt")"
+# Cross-sensor: the LiDAR's points projected through calib.txt land on semantic_2 pixels of
+# their own class (>= 95 % of those in view; every 15th frame, read by the test's own readers).
+export TESTS_DIR="$(cd "$(dirname "$0")" && pwd)"
+python3 "$TESTS_DIR/cross_sensor.py" "$WORK/a/sequences/00" 15 >"$WORK/cross.txt" &&
+  pass "LiDAR points on their class in the camera: $(head -1 "$WORK/cross.txt")" ||
+  fail "LiDAR points on their class in the camera: $(cat "$WORK/cross.txt")"
 # The remaining checks run a shorter route (1.5 km, every sensor of the default) so that the
 # suite stays fast; the full default dataset's bytes are pinned by regression_default_dataset.
+# Its camera has a lens, night with headlights, sensor noise and float depth, so the thread
+# count checks cover them too.
 "$TRAINSIM" defaults | python3 -c '
 import json, sys
 s = json.load(sys.stdin)
 s["route"]["generator"]["length_m"] = 1500.0
+cam = s["sensors"]["cameras"][0]
+cam.update({"distortion": {"k1": -0.2, "k2": 0.05, "p1": 0.0, "p2": 0.0, "k3": 0.0},
+            "daytime": "night", "read_noise_dn": 2.0, "shot_noise_dn": 3.0, "iso": 400.0,
+            "depth_float": True, "semantic_preview": True})
 json.dump(s, sys.stdout, indent=2)' >"$WORK/short.json"
 # Another sequence number: the manifest says where its files are.
 expect_exit 0 "generate sequence 7" -- bash -c \
@@ -63,6 +75,30 @@ for n in 2 4; do
   diff -r "$WORK/t1" "$WORK/t$n" >/dev/null && pass "dataset with --threads $n identical to --threads 1" ||
     fail "dataset with --threads $n differs from --threads 1"
 done
+# The lens's coefficients follow P and Tr in calib.txt; the float depth agrees with the PNG's.
+[ "$(cut -d: -f1 "$WORK/t1/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr D2 " ] &&
+  pass "calib.txt: P0 P1 P2 P3 Tr D2" || fail "calib.txt keys: $(cut -d: -f1 "$WORK/t1/sequences/00/calib.txt")"
+python3 - "$WORK/t1/sequences/00" <<'PY' && pass "depth PFM matches the depth PNG" || fail "depth PFM"
+import os, struct, sys
+sys.path.insert(0, os.environ.get("TESTS_DIR", "."))
+from kitti_read import read_png
+seq = sys.argv[1]
+data = open(os.path.join(seq, "depth_2", "000020.pfm"), "rb").read()
+head = data.split(b"\n", 3)
+assert head[0] == b"Pf" and float(head[2]) < 0, head[:3]
+w, h = map(int, head[1].split())
+values = struct.unpack(f"<{w * h}f", head[3])
+pw, ph, _, rows = read_png(os.path.join(seq, "depth_2", "000020.png"))
+assert (w, h) == (pw, ph)
+checked = 0
+for v in range(h):
+    for u in range(w):
+        d = values[(h - 1 - v) * w + u]  # PFM rows bottom to top
+        if rows[v][u]:
+            assert abs(d - rows[v][u] / 256) <= 1 / 512 + 1e-6, (u, v, d, rows[v][u])
+            checked += 1
+assert checked > w * h // 4, checked
+PY
 # A different seed is a different run.
 expect_exit 0 "generate --seed 7" -- "$TRAINSIM" generate "$WORK/short.json" --out "$WORK/d" --seed 7
 grep -q '"seed": 7' "$WORK/d/scenario.json" && pass "--seed recorded in scenario.json" ||

@@ -10,8 +10,9 @@
 #include <set>
 
 #include "support/scene_shapes.hpp"
+#include "support/x_environment.hpp"
+#include "trainsim/camera/lens.hpp"
 #include "trainsim/camera/renderer.hpp"
-#include "trainsim/camera/x_display.hpp"
 
 namespace trainsim {
 namespace {
@@ -19,16 +20,7 @@ namespace {
 using test::makeTile;
 using test::square;
 
-// Starts Xvfb for the whole test program when there is no display.
-class XEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override { display_ = camera::XDisplay::ensure(); }
-  void TearDown() override { display_.reset(); }
-
- private:
-  std::unique_ptr<camera::XDisplay> display_;
-};
-const auto* const kX = ::testing::AddGlobalTestEnvironment(new XEnvironment);
+const auto* const kX = ::testing::AddGlobalTestEnvironment(new test::XEnvironment);
 
 // A camera at `at` looking along world +x (camera x = world −y, y = world −z), level.
 Eigen::Isometry3d lookingAlongX(const Eigen::Vector3d& at) {
@@ -205,6 +197,118 @@ TEST(CameraProjection, KnownPointsLandOnTheRenderedEdges) {
   EXPECT_LE(std::abs((u0 - 0.5) - a.x()), 1.0);
   RecordProperty("edges_px",
                  fmt::format("{:.3f} {:.3f} {:.3f} {:.3f}", a.x(), b.x(), a.y(), b.y()));
+}
+
+// Small squares facing the camera all over a distorted camera's view (a KITTI-like barrel lens
+// with tangential terms). The Brown–Conrady model, inverted here by fixed-point iteration,
+// says which square each pixel's ray meets: every pixel of the remapped image agrees, except
+// where a square's edge passes within half a pixel of the pixel's centre.
+TEST(CameraLens, PixelsShowWhatTheDistortionModelSaysTheirRaysMeet) {
+  const Eigen::Vector3d O(2.0e5, -4.0e5, 30.0);
+  const camera::Intrinsics k = smallCamera();
+  const camera::Distortion d{-0.28, 0.07, 0.0012, -0.0009, 0.0};
+  const camera::LensRemap lens(k, d);
+  EXPECT_GT(lens.render().width, k.width);  // barrel: the corners see beyond the pinhole's view
+  const double ahead = 12.0, half = 0.3;
+  std::vector<scene::Mesh> squares;
+  std::vector<Eigen::Vector2d> centres;  // camera (x, y) at `ahead`
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const double x = ((i + 0.5) / 5.0 * k.width - k.cx) / k.fx * 1.1 * ahead;
+      const double y = ((j + 0.5) / 4.0 * k.height - k.cy) / k.fy * 1.1 * ahead;
+      centres.emplace_back(x, y);
+      // Camera x = world −y, camera y = world −z (lookingAlongX).
+      squares.push_back(square({ahead, -x, -y}, -Eigen::Vector3d::UnitX(), half));
+    }
+  const auto tile = makeTile(O, std::move(squares));
+  camera::RendererOptions o;
+  o.intrinsics = lens.render();
+  const camera::CameraImages img =
+      lens.apply(camera::Renderer(o).render({{tile}}, lookingAlongX(O), {}));
+  ASSERT_EQ(img.width, k.width);
+  ASSERT_EQ(img.object.size(), static_cast<std::size_t>(k.width * k.height));
+  // The instance (1, 2, … as the squares; 0: none) the ray through pixel point (u, v) meets.
+  const auto model = [&](double u, double v) -> scene::InstanceId {
+    const Eigen::Vector2d target((u - k.cx) / k.fx, (v - k.cy) / k.fy);
+    Eigen::Vector2d xy = target;
+    for (int it = 0; it < 500; ++it)
+      xy += target - d.apply(xy);
+    EXPECT_LT((d.apply(xy) - target).norm(), 1e-12);
+    for (std::size_t n = 0; n < centres.size(); ++n)
+      if ((ahead * xy - centres[n]).cwiseAbs().maxCoeff() <= half)
+        return static_cast<scene::InstanceId>(n + 1);
+    return 0;
+  };
+  int wrong = 0, at_edges = 0, drawn = 0;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const scene::InstanceId got = img.instances[img.object[v * k.width + u]];
+      const scene::InstanceId want = model(u, v);
+      drawn += want != 0;
+      if (got == want)
+        continue;
+      bool near_edge = false;
+      for (const auto& [du, dv] : {std::pair{-0.5, 0.0},
+                                   {0.5, 0.0},
+                                   {0.0, -0.5},
+                                   {0.0, 0.5},
+                                   {-0.35, -0.35},
+                                   {0.35, -0.35},
+                                   {-0.35, 0.35},
+                                   {0.35, 0.35}})
+        near_edge |= model(u + du, v + dv) != want;
+      ++(near_edge ? at_edges : wrong);
+      EXPECT_TRUE(near_edge) << "pixel " << u << ", " << v << ": " << got << " for " << want;
+    }
+  EXPECT_GT(drawn, 2500);  // about 15 x 15 px a square, some partly outside the image
+  EXPECT_EQ(wrong, 0);
+  RecordProperty("pixels_on_squares_off_by_under_half_px", fmt::format("{} {}", drawn, at_edges));
+}
+
+// Levels of detail move no pixel of a surface farther than their budget: a tree far enough for
+// its lightest levels differs from full detail only on its outline, and keeps its classes.
+TEST(CameraLevelsOfDetail, AFarTreeKeepsItsClassesAndChangesOnlyAtItsOutline) {
+  const Eigen::Vector3d O(0.0, 0.0, 0.0);
+  auto tree = std::make_shared<scene::Mesh>();
+  tree->beginPart(scene::cls::kTrunk, scene::mat::kBark);
+  scene::addCylinder(*tree, {0, 0, 0}, {0, 0, 2.5f}, 0.2f, 0.15f, 16);
+  tree->beginPart(scene::cls::kTree, scene::mat::kLeaves);
+  scene::addBlob(*tree, {0, 0, 3.5f}, {1.6f, 1.6f, 1.8f}, 3, {});
+  std::vector<scene::Object> objects;
+  for (int i = 0; i < 6; ++i)
+    objects.push_back(scene::Object::place(tree,
+                                           O + Eigen::Vector3d(60.0 + 40.0 * i, 8.0 - 4.0 * i, 0),
+                                           Eigen::Matrix3f::Identity(), 10 + i));
+  const auto tile = makeTile(O, {}, {}, std::move(objects));
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  o.lod_pixels = 0.0;
+  const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.5));
+  const camera::CameraImages full = camera::Renderer(o).render({{tile}}, T, {});
+  o.lod_pixels = 1.0;
+  const camera::CameraImages light = camera::Renderer(o).render({{tile}}, T, {});
+  EXPECT_LT(light.triangles, full.triangles * 3 / 4);
+  int changed = 0, drawn = 0;
+  for (std::size_t i = 0; i < full.semantic.size(); ++i) {
+    drawn += full.semantic[i] != scene::cls::kSky;
+    if (full.semantic[i] == light.semantic[i])
+      continue;
+    ++changed;
+    // A changed pixel lies on an outline: a neighbour of it differs in the full render.
+    const int u = static_cast<int>(i % full.width), v = static_cast<int>(i / full.width);
+    bool edge = false;
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du) {
+        const int uu = std::clamp(u + du, 0, full.width - 1),
+                  vv = std::clamp(v + dv, 0, full.height - 1);
+        edge |= full.semantic[vv * full.width + uu] != full.semantic[i];
+      }
+    EXPECT_TRUE(edge) << "pixel " << u << ", " << v << " changed class inside a surface";
+  }
+  EXPECT_GT(drawn, 300);
+  EXPECT_LT(changed, drawn / 10);
+  RecordProperty("triangles_full_lod", fmt::format("{} {}", full.triangles, light.triangles));
+  RecordProperty("pixels_drawn_changed", fmt::format("{} {}", drawn, changed));
 }
 
 TEST(CameraRender, ImagesDoNotDependOnWhatWasDrawnBefore) {

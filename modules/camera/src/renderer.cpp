@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <functional>
 #include <future>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <thread>
+#include <unordered_map>
 
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
@@ -108,23 +111,41 @@ std::array<std::uint8_t, 3> idColour(scene::ClassId cls, std::uint32_t slot) {
           static_cast<std::uint8_t>(object & 0xFF)};
 }
 
-// A shared mesh as VTK polydata (float vertices relative to the mesh's origin), with its
-// triangles' surface colours from their parts' materials.
+// Levels of detail: level L ≥ 1 merges the mesh's vertices in cubic cells of side
+// kFinestCell_m · 2^(L−1) (mesh units), dropping the triangles that collapse
+// (clustered()); level 0 is the mesh itself.
+constexpr int kLevels = 5;
+constexpr double kFinestCell_m = 0.05;
+double cellSize(int level) {
+  return kFinestCell_m * std::ldexp(1.0, level - 1);
+}
+
+// One level of a shared mesh as VTK polydata (float vertices relative to the mesh's origin),
+// with its triangles' surface colours ("albedo") and classes ("class").
+struct MeshLevel {
+  vtkSmartPointer<vtkPolyData> poly;
+  vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by the mesh's objects
+  std::int64_t triangles = 0;
+};
+
 struct MeshEntry {
   std::shared_ptr<const scene::Mesh> mesh;  // keeps the key's pointer valid
-  vtkSmartPointer<vtkPolyData> poly;
-  vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by its objects
+  std::array<MeshLevel, kLevels> levels;    // made as they are first needed
   std::uint64_t used = 0;
 };
 
-// An object (or a wire) as drawn: its actors for the two passes and its id slot.
+// An object (or a wire) as drawn: its actors for the two passes at each level of detail it has
+// been drawn at, and its id slot.
 struct DrawnEntry {
-  std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive
-  vtkSmartPointer<vtkActor> colour, id;
-  bool shares_colour_mapper = false;  // an object's colour actor draws its mesh's mapper
+  std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive; null: unmade
+  std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id;
+  bool shares_colour_mapper = false;  // an object's colour actors draw its mesh's mappers
   std::uint32_t slot = 0;
+  int level = 0;  // this render's
   std::int64_t triangles = 0;
   std::uint64_t used = 0;
+  vtkActor* colourActor() const { return colour[level]; }
+  vtkActor* idActor() const { return id[level]; }
 };
 
 vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* array) {
@@ -152,6 +173,9 @@ vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
   albedo->SetName("albedo");
   albedo->SetNumberOfComponents(3);
   albedo->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
+  vtkNew<vtkUnsignedCharArray> cls;
+  cls->SetName("class");
+  cls->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
   for (const scene::MeshPart& part : mesh.parts) {
     const scene::Rgb c = scene::material(part.material).colour;
     for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
@@ -160,28 +184,81 @@ vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
       const vtkIdType ids[3] = {tri[0], tri[1], tri[2]};
       polys->InsertNextCell(3, ids);
       albedo->SetTypedTuple(static_cast<vtkIdType>(t), c.data());
+      cls->SetValue(static_cast<vtkIdType>(t), part.cls);
     }
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
   poly->SetPolys(polys);
   poly->GetCellData()->AddArray(albedo);
+  poly->GetCellData()->AddArray(cls);
   return poly;
 }
 
-// The id pass's polydata of one object: the mesh's points and triangles (shared, not copied)
-// with the object's own id colours.
-vtkSmartPointer<vtkPolyData> idPolyData(vtkPolyData* mesh_poly, const scene::Mesh& mesh,
-                                        std::uint32_t slot) {
+// A lighter level of a mesh by vertex clustering (Rossignac and Borrel): the vertices in each
+// cubic cell of side `cell` merge into one at their mean, and the triangles left with fewer
+// than three corners go; parts (class, material) are kept. No vertex moves by more than the
+// cell's diagonal. Written here rather than taken from VTK: vtkBinnedDecimation and
+// vtkQuadricClustering keep dense arrays over every cell of the mesh's box (a 250 m terrain
+// tile at 5 cm is 10⁹ cells, gigabytes to clear per mesh), where a hash of the occupied cells
+// costs what the mesh has. Sequential and in vertex order, so the result is a pure function of
+// the mesh.
+scene::Mesh clustered(const scene::Mesh& mesh, double cell) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Vector3f hi = -lo;
+  for (const Eigen::Vector3f& v : mesh.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  // Cell coordinates take 21 bits each in the key; a mesh wider than 2²¹ cells stays as it is.
+  if (mesh.vertices.empty() || ((hi - lo).cast<double>() / cell).maxCoeff() >= 0x1p21)
+    return mesh;
+  std::unordered_map<std::uint64_t, std::uint32_t> cells;
+  std::vector<std::uint32_t> merged(mesh.vertices.size());
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<int> count;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d c = ((mesh.vertices[i] - lo).cast<double>() / cell).array().floor();
+    const std::uint64_t key = static_cast<std::uint64_t>(c.x()) << 42 |
+                              static_cast<std::uint64_t>(c.y()) << 21 |
+                              static_cast<std::uint64_t>(c.z());
+    const auto [it, added] = cells.emplace(key, static_cast<std::uint32_t>(sum.size()));
+    if (added) {
+      sum.emplace_back(Eigen::Vector3d::Zero());
+      count.push_back(0);
+    }
+    merged[i] = it->second;
+    sum[it->second] += mesh.vertices[i].cast<double>();
+    ++count[it->second];
+  }
+  scene::Mesh out;
+  out.vertices.reserve(sum.size());
+  for (std::size_t k = 0; k < sum.size(); ++k)
+    out.vertices.push_back((sum[k] / count[k]).cast<float>());
+  for (const scene::MeshPart& part : mesh.parts) {
+    out.beginPart(part.cls, part.material);
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
+         ++t) {
+      const std::uint32_t a = merged[mesh.triangles[t][0]], b = merged[mesh.triangles[t][1]],
+                          c = merged[mesh.triangles[t][2]];
+      if (a != b && b != c && a != c)
+        out.addTriangle(a, b, c);
+    }
+  }
+  return out;
+}
+
+// The id pass's polydata of one object at one level: the level's points and triangles (shared,
+// not copied) with the object's own id colours.
+vtkSmartPointer<vtkPolyData> idPolyData(vtkPolyData* mesh_poly, std::uint32_t slot) {
   vtkNew<vtkUnsignedCharArray> ids;
   ids->SetName("id");
   ids->SetNumberOfComponents(3);
-  ids->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
-  for (const scene::MeshPart& part : mesh.parts) {
-    const auto c = idColour(part.cls, slot);
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t)
-      ids->SetTypedTuple(static_cast<vtkIdType>(t), c.data());
-  }
+  const vtkIdType n = mesh_poly->GetNumberOfCells();
+  ids->SetNumberOfTuples(n);
+  auto* cls = vtkUnsignedCharArray::SafeDownCast(mesh_poly->GetCellData()->GetArray("class"));
+  for (vtkIdType t = 0; t < n; ++t)
+    ids->SetTypedTuple(t, idColour(cls->GetValue(t), slot).data());
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(mesh_poly->GetPoints());
   poly->SetPolys(mesh_poly->GetPolys());
@@ -222,8 +299,8 @@ void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& 
       m->SetElement(r, c, linear(r, c));
     m->SetElement(r, 3, translation[r]);
   }
-  e.colour->SetUserMatrix(m);
-  e.id->SetUserMatrix(m);
+  e.colourActor()->SetUserMatrix(m);
+  e.idActor()->SetUserMatrix(m);
 }
 
 // The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
@@ -287,6 +364,7 @@ struct Renderer::Impl {
     vtkNew<vtkRenderWindow> window;
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkLight> sun;
+    std::vector<vtkSmartPointer<vtkLight>> spots;  // as many as a render has asked for
     vtkNew<vtkProperty> lit, unlit;  // the colour pass's and the id pass's (see actor())
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
@@ -338,13 +416,31 @@ struct Renderer::Impl {
     cam->UseExplicitProjectionTransformMatrixOn();
   }
 
-  MeshEntry& meshEntry(const std::shared_ptr<const scene::Mesh>& mesh) {
+  // The mesh's entry with `level` made; a level that would not save a fifth of the triangles of
+  // the one before is that one.
+  MeshEntry& meshEntry(const std::shared_ptr<const scene::Mesh>& mesh, int level) {
     MeshEntry& e = gl->meshes[mesh.get()];
-    if (!e.poly) {
+    if (!e.levels[0].poly) {
       e.mesh = mesh;
-      e.poly = meshPolyData(*mesh);
-      e.mapper = colourMapper(e.poly, "albedo");
+      e.levels[0].poly = meshPolyData(*mesh);
+      e.levels[0].triangles = static_cast<std::int64_t>(mesh->triangles.size());
     }
+    for (int l = 1; l <= level; ++l) {
+      MeshLevel& m = e.levels[l];
+      if (m.poly)
+        continue;
+      const MeshLevel& before = e.levels[l - 1];
+      const scene::Mesh light = clustered(*mesh, cellSize(l));
+      const auto n = static_cast<std::int64_t>(light.triangles.size());
+      // A mesh that collapses altogether (smaller than a cell) keeps its last level: it spans
+      // about a pixel, and the semantic image should still show it.
+      if (n > 0 && n * 5 <= before.triangles * 4)
+        m = {meshPolyData(light), nullptr, n};
+      else
+        m = before;
+    }
+    if (!e.levels[level].mapper)
+      e.levels[level].mapper = colourMapper(e.levels[level].poly, "albedo");
     e.used = gl->frame;
     return e;
   }
@@ -377,9 +473,9 @@ struct Renderer::Impl {
   DrawnEntry& entry(std::pair<scene::TileIndex, std::uint32_t> key,
                     const std::shared_ptr<const scene::Tile>& tile) {
     DrawnEntry& e = gl->drawn[key];
-    if (e.colour && e.tile != tile)  // the tile was made again since
+    if (e.tile && e.tile != tile)  // the tile was made again since
       drop(e);
-    if (!e.colour) {
+    if (!e.tile) {
       e.tile = tile;
       e.slot = takeSlot();
     }
@@ -389,14 +485,15 @@ struct Renderer::Impl {
 
   DrawnEntry& objectEntry(std::pair<scene::TileIndex, std::uint32_t> key,
                           const std::shared_ptr<const scene::Tile>& tile,
-                          const scene::Object& object) {
+                          const scene::Object& object, int level) {
     DrawnEntry& e = entry(key, tile);
-    const MeshEntry& m = meshEntry(object.mesh);
-    if (!e.colour) {
-      e.triangles = static_cast<std::int64_t>(object.mesh->triangles.size());
-      e.colour = actor(m.mapper, gl->lit);
+    const MeshEntry& m = meshEntry(object.mesh, level);
+    e.level = level;
+    e.triangles = m.levels[level].triangles;
+    if (!e.colour[level]) {
+      e.colour[level] = actor(m.levels[level].mapper, gl->lit);
       e.shares_colour_mapper = true;
-      e.id = actor(colourMapper(idPolyData(m.poly, *object.mesh, e.slot), "id"), gl->unlit);
+      e.id[level] = actor(colourMapper(idPolyData(m.levels[level].poly, e.slot), "id"), gl->unlit);
     }
     return e;
   }
@@ -404,20 +501,22 @@ struct Renderer::Impl {
   DrawnEntry& wireEntry(std::pair<scene::TileIndex, std::uint32_t> key,
                         const std::shared_ptr<const scene::Tile>& tile, const scene::Wire& wire) {
     DrawnEntry& e = entry(key, tile);
-    if (!e.colour) {
+    if (!e.colour[0]) {
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
-      e.colour = actor(colourMapper(poly, "albedo"), gl->lit);
-      e.id = actor(colourMapper(poly, "id"), gl->unlit);
+      e.colour[0] = actor(colourMapper(poly, "albedo"), gl->lit);
+      e.id[0] = actor(colourMapper(poly, "id"), gl->unlit);
     }
     return e;
   }
 
   // Frees an entry's OpenGL buffers (a shared mesh's go with the mesh's entry) and its slot.
   void drop(DrawnEntry& e) {
-    if (e.colour && !e.shares_colour_mapper)
-      e.colour->ReleaseGraphicsResources(gl->window);
-    if (e.id)
-      e.id->ReleaseGraphicsResources(gl->window);
+    for (int l = 0; l < kLevels; ++l) {
+      if (e.colour[l] && !e.shares_colour_mapper)
+        e.colour[l]->ReleaseGraphicsResources(gl->window);
+      if (e.id[l])
+        e.id[l]->ReleaseGraphicsResources(gl->window);
+    }
     gl->free_slots.push_back(e.slot);
     e = DrawnEntry{};
   }
@@ -432,11 +531,55 @@ struct Renderer::Impl {
       }
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
-        it->second.mapper->ReleaseGraphicsResources(gl->window);
+        for (MeshLevel& m : it->second.levels)
+          if (m.mapper)
+            m.mapper->ReleaseGraphicsResources(gl->window);
         it = gl->meshes.erase(it);
       } else {
         ++it;
       }
+  }
+
+  // The spot lights, placed relative to the camera (world axes, as the actors); lights made for
+  // an earlier render and not needed now are switched off.
+  void setSpots(const std::vector<Spot>& spots, const Eigen::Matrix3d& R_world_cam) {
+    while (gl->spots.size() < spots.size()) {
+      auto light = vtkSmartPointer<vtkLight>::New();
+      light->SetLightTypeToSceneLight();
+      light->SetPositional(true);
+      gl->renderer->AddLight(light);
+      gl->spots.push_back(light);
+    }
+    for (std::size_t i = 0; i < gl->spots.size(); ++i) {
+      vtkLight* light = gl->spots[i];
+      light->SetSwitch(i < spots.size());
+      if (i >= spots.size())
+        continue;
+      const Spot& s = spots[i];
+      const Eigen::Vector3d p = R_world_cam * s.position;
+      const Eigen::Vector3d f = p + R_world_cam * s.direction;
+      light->SetPosition(p.data());
+      light->SetFocalPoint(f.data());
+      light->SetConeAngle(s.half_angle_deg);
+      light->SetExponent(2.0);  // brightest on the axis, fading towards the cone's edge
+      light->SetAttenuationValues(1.0, 0.0, 1.0 / (s.half_distance_m * s.half_distance_m));
+      light->SetIntensity(s.intensity);
+    }
+  }
+
+  // The lightest level whose cells, scaled by the object's largest stretch, span at most
+  // `pixels` at the nearest point of the object's box (0 inside it).
+  static int levelOf(const scene::Object& object, const Eigen::Vector3d& eye, double focal_px,
+                     double pixels) {
+    if (!(pixels > 0.0))
+      return 0;
+    const Eigen::Vector3d nearest = eye.cwiseMax(object.bounds.min).cwiseMin(object.bounds.max);
+    const double d = (nearest - eye).norm();
+    const double stretch = object.linear.cast<double>().colwise().norm().maxCoeff();
+    int level = 0;
+    while (level + 1 < kLevels && focal_px * cellSize(level + 1) * stretch <= pixels * d)
+      ++level;
+    return level;
   }
 
   // Makes `actors` the renderer's props, in this order. The collection is set directly:
@@ -470,7 +613,8 @@ struct Renderer::Impl {
         const scene::Object& object = tile->objects[i];
         if (o.cull && !frustum.meets(object.bounds))
           continue;
-        DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object);
+        DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object,
+                                    levelOf(object, origin, std::max(k.fx, k.fy), o.lod_pixels));
         place(e, object.linear.cast<double>(), object.position - origin);
         list.push_back(&e);
         noteInstance(out, e.slot, object.instance);
@@ -503,13 +647,15 @@ struct Renderer::Impl {
     std::vector<vtkActor*> actors(list.size());
     if (o.passes.rgb || o.passes.depth) {
       std::transform(list.begin(), list.end(), actors.begin(),
-                     [](const DrawnEntry* e) { return e->colour.Get(); });
+                     [](const DrawnEntry* e) { return e->colourActor(); });
       show(actors);
       gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
       gl->lit->SetDiffuse(1.0 - lighting.ambient);
       gl->sun->SetPosition(lighting.sun_direction.data());
       gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
       gl->sun->SetIntensity(lighting.sun_intensity);
+      gl->sun->SetSwitch(lighting.sun_intensity > 0.0);
+      setSpots(lighting.spots, R);
       ren->GradientBackgroundOn();
       ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
                          lighting.sky_horizon[2] / 255.0);
@@ -538,7 +684,7 @@ struct Renderer::Impl {
     }
     if (o.passes.semantic || o.passes.instance) {
       std::transform(list.begin(), list.end(), actors.begin(),
-                     [](const DrawnEntry* e) { return e->id.Get(); });
+                     [](const DrawnEntry* e) { return e->idActor(); });
       show(actors);
       ren->GradientBackgroundOff();
       ren->SetBackground(scene::cls::kSky / 255.0, 0.0, 0.0);

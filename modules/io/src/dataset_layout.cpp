@@ -79,6 +79,9 @@ std::string DatasetLayout::depthFolder(int index) {
 std::string DatasetLayout::semanticFolder(int index) {
   return cameraFolder("semantic", index);
 }
+std::string DatasetLayout::semanticPreviewFolder(int index) {
+  return cameraFolder("semantic_rgb", index);
+}
 std::string DatasetLayout::instanceFolder(int index) {
   return cameraFolder("instance", index);
 }

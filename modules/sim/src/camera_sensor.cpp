@@ -2,11 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
+#include "trainsim/camera/lens.hpp"
 #include "trainsim/camera/renderer.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/core/random.hpp"
 #include "trainsim/io/png.hpp"
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/sensor_params.hpp"
@@ -15,15 +21,19 @@
 namespace trainsim::sim {
 namespace {
 
+static_assert(std::endian::native == std::endian::little,
+              "PFM depth is written little-endian by copying memory as is");
+
 namespace units = scenario::units;
 constexpr scenario::Unit kM = units::si("m");
 
 // Sun positions (azimuth from north, clockwise; elevation) of the daytime presets
 // (sensors-reference.md 7.5), or the explicit angles.
-enum class Daytime { kNoon, kMorning, kEvening, kCustom };
+enum class Daytime { kNoon, kMorning, kEvening, kNight, kCustom };
 constexpr EnumName<Daytime> kDaytimeNames[] = {{Daytime::kNoon, "noon"},
                                                {Daytime::kMorning, "morning"},
                                                {Daytime::kEvening, "evening"},
+                                               {Daytime::kNight, "night"},
                                                {Daytime::kCustom, "custom"}};
 constexpr std::span<const EnumName<Daytime>> enumNames(Daytime) {
   return kDaytimeNames;
@@ -35,14 +45,38 @@ struct CameraConfig {
   int width = 1242, height = 375;
   double hfov_rad = 81.6 * kRadPerDeg;  // KITTI's colour cameras: fx 718.9 px over 1242 px
   double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;
+  camera::Distortion distortion;
   double near_m = 0.5;
   double far_m = 400.0;
   double depth_max_m = 100.0;
-  bool rgb = true, depth = true, semantic = true, instance = true;
+  bool rgb = true, depth = true, semantic = true, instance = true, semantic_preview = false;
+  bool depth_float = false;
   Daytime daytime = Daytime::kNoon;
   double sun_azimuth_rad = 180.0 * kRadPerDeg, sun_elevation_rad = 55.0 * kRadPerDeg;
   double fog_visibility_m = 0.0;
+  bool headlights = false;
+  double shutter_s = 0.01, f_number = 16.0, iso = 100.0;
+  double read_noise_dn = 0.0, shot_noise_dn = 0.0;
 };
+
+const scenario::Binding<camera::Distortion>& distortionBinding() {
+  static const scenario::Binding<camera::Distortion> binding = [] {
+    using D = camera::Distortion;
+    scenario::Binding<D> b;
+    b.number("k1", &D::k1, units::kNone,
+             "Radial: a pinhole point (x, y) = (X/Z, Y/Z) at r is imaged at (x, y) (1 + k1 r^2 "
+             "+ k2 r^4 + k3 r^6) plus the tangential terms")
+        .range(-10, 10);
+    b.number("k2", &D::k2, units::kNone, "Radial, r^4").range(-10, 10);
+    b.number("p1", &D::p1, units::kNone, "Tangential: + 2 p1 x y in x, p1 (r^2 + 2 y^2) in y")
+        .range(-1, 1);
+    b.number("p2", &D::p2, units::kNone, "Tangential: p2 (r^2 + 2 x^2) in x, + 2 p2 x y in y")
+        .range(-1, 1);
+    b.number("k3", &D::k3, units::kNone, "Radial, r^6").range(-10, 10);
+    return b;
+  }();
+  return binding;
+}
 
 const scenario::Binding<CameraConfig>& cameraBinding() {
   static const scenario::Binding<CameraConfig> binding = [] {
@@ -72,6 +106,11 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "image centre")
         .range(0, 1e6);
     b.number("cy", &C::cy, units::kNone, "Principal point row (see cx)").range(0, 1e6);
+    b.object("distortion", &C::distortion, distortionBinding(),
+             "Lens distortion (Brown-Conrady, OpenCV's coefficients; all 0: a pinhole). The "
+             "camera renders a pinhole image large enough to cover every ray, then remaps it "
+             "with OpenCV (bilinear for RGB, nearest for depth and ids); calib.txt's P stays "
+             "the pinhole K and D<N> lists k1 k2 p1 p2 k3");
     b.number("near_m", &C::near_m, kM,
              "Nothing nearer is drawn; the depth step at z is about z^2 / (near * 2^24): 1.2 mm "
              "at 100 m for 0.5 m")
@@ -85,13 +124,21 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
     b.boolean("depth", &C::depth,
               "Write depth_N/*.png: uint16 metres * 256 along the optical axis, 0 for nothing "
               "within depth_max_m (KITTI's depth convention)");
+    b.boolean("depth_float", &C::depth_float,
+              "Also write depth_N/*.pfm: float32 metres along the optical axis, 0 for nothing "
+              "drawn (not clipped at depth_max_m; Portable Float Map, which OpenCV's imread "
+              "reads)");
     b.boolean("semantic", &C::semantic, "Write semantic_N/*.png: uint8 class id per pixel");
+    b.boolean("semantic_preview", &C::semantic_preview,
+              "Also write semantic_rgb_N/*.png: the semantic image in the classes' colours "
+              "(classes.json), to look at");
     b.boolean("instance", &C::instance,
               "Write instance_N/*.png: uint16 instance id per pixel, the id the LiDAR labels use "
               "(instances.csv), 0 for stuff");
     b.choice("daytime", &C::daytime,
              "Sun position: noon (south, 55 deg up), morning (east, 15 deg), evening (west, 10 "
-             "deg) or custom (sun_azimuth_deg, sun_elevation_deg)");
+             "deg), night (no sun, a faint sky, the train's headlights on) or custom "
+             "(sun_azimuth_deg, sun_elevation_deg)");
     b.number("sun_azimuth_deg", &C::sun_azimuth_rad, units::kDegree,
              "Custom sun azimuth, clockwise from north (world y)")
         .range(0, 360);
@@ -102,17 +149,43 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "Meteorological visibility of fog (2 % contrast, Koschmieder: extinction 3.912 / "
              "visibility, applied by each pixel's range); 0: clear")
         .range(0, 100000);
+    b.boolean("headlights", &C::headlights,
+              "The train's two headlights (1 m above the rail, 0.6 m either side of the centre, "
+              "at the front of the cab; 15 deg cones) light the scene, at any daytime (always on "
+              "at night)");
+    b.number("shutter_s", &C::shutter_s, units::si("s"),
+             "Exposure time. The presets' colours are those of a sunny-16 exposure (1/100 s at "
+             "f/16, ISO 100); other settings scale them by shutter_s * iso / f_number^2 "
+             "relative to it, clipping at white")
+        .range(1e-6, 10);
+    b.number("f_number", &C::f_number, units::kNone, "Aperture, the f-number N").range(0.5, 64);
+    b.number("iso", &C::iso, units::kNone, "Sensitivity, ISO").range(10, 409600);
+    b.number("read_noise_dn", &C::read_noise_dn, units::kNone,
+             "Sensor noise: Gaussian read noise, standard deviation in 8-bit steps; 0: none")
+        .range(0, 64);
+    b.number("shot_noise_dn", &C::shot_noise_dn, units::kNone,
+             "Sensor noise: photon shot noise, standard deviation in 8-bit steps at white (it "
+             "grows as the square root of the signal); 0: none")
+        .range(0, 64);
     b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
       if (c.near_m >= c.far_m)
         out.push_back({at(c.near_m), "must be below " + at.key(c.far_m)});
       if (c.depth && c.depth_max_m > c.far_m)
         out.push_back({at(c.depth_max_m), "must not exceed " + at.key(c.far_m)});
-      if (!c.rgb && !c.depth && !c.semantic && !c.instance)
+      if (!c.rgb && !c.depth && !c.depth_float && !c.semantic && !c.semantic_preview && !c.instance)
         out.push_back({at(c.rgb), "a camera must write at least one image"});
     });
     return b;
   }();
   return binding;
+}
+
+// The camera's pose on the body: the mount, then KITTI's camera axes.
+Eigen::Isometry3d bodyFromCamera(const Mount& mount) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = mount.r_body_sensor * rotationBodyFromKittiCamera();
+  T.translation() = mount.position_m;
+  return T;
 }
 
 camera::Intrinsics intrinsics(const CameraConfig& c) {
@@ -140,6 +213,7 @@ camera::Lighting lighting(const CameraConfig& c) {
     case Daytime::kEvening:
       az = 270.0 * kRadPerDeg, el = 10.0 * kRadPerDeg;
       break;
+    case Daytime::kNight:
     case Daytime::kCustom:
       break;
   }
@@ -149,13 +223,33 @@ camera::Lighting lighting(const CameraConfig& c) {
       Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
   // A low sun lights less, and the sky's light is a larger share.
   l.sun_intensity = 0.55 + 0.45 * std::sin(el);
+  if (c.daytime == Daytime::kNight) {
+    l.sun_intensity = 0.0;
+    l.ambient = 0.06;
+    l.sky_zenith = {6, 9, 22};
+    l.sky_horizon = {18, 22, 38};
+  }
+  if (c.headlights || c.daytime == Daytime::kNight) {
+    // Two lamps at the cab's front, in the body frame (x forward, y left, z up), dipped 1°,
+    // then into the camera's frame.
+    const Eigen::Isometry3d T_cam_body = bodyFromCamera(c.basics.mount.mount()).inverse();
+    for (const double y : {0.6, -0.6}) {
+      camera::Spot s;
+      s.position = T_cam_body * Eigen::Vector3d(c.basics.mount.position_m.x() + 0.5, y, 1.0);
+      s.direction = T_cam_body.linear() * Eigen::Vector3d(1.0, 0.0, -0.0175).normalized();
+      s.half_angle_deg = 15.0;
+      s.intensity = 1.0;
+      s.half_distance_m = 35.0;
+      l.spots.push_back(s);
+    }
+  }
   return l;
 }
 
 // One frame's images, rendered in render(); the instance ids wait for commit().
 struct CameraFrame {
   camera::CameraImages images;
-  std::string rgb_png, depth_png, semantic_png;  // made in render()
+  std::string rgb_png, depth_png, depth_pfm, semantic_png, preview_png;  // made in render()
 };
 
 class CameraSensor final : public SensorOf<CameraFrame> {
@@ -170,8 +264,12 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         cameras_(setup.count),
         T_body_cam0_(setup.context.T_body_cam0),
         config_(c),
+        noise_(setup.context.scenario.seed(), name_ + ".noise"),
+        intrinsics_(intrinsics(c)),
+        lens_(c.distortion.none() ? nullptr
+                                  : std::make_unique<camera::LensRemap>(intrinsics_, c.distortion)),
         lighting_(lighting(c)),
-        renderer_(rendererOptions(c)) {
+        renderer_(rendererOptions(c, lens_ ? lens_->render() : intrinsics_)) {
     if (scene_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
@@ -185,10 +283,12 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     std::vector<std::string> files = sensorFiles(kReadingsCsv, name_);
     if (config_.rgb)
       files.push_back(io::DatasetLayout::imageFolder(index_) + "/");
-    if (config_.depth)
+    if (config_.depth || config_.depth_float)
       files.push_back(io::DatasetLayout::depthFolder(index_) + "/");
     if (config_.semantic)
       files.push_back(io::DatasetLayout::semanticFolder(index_) + "/");
+    if (config_.semantic_preview)
+      files.push_back(io::DatasetLayout::semanticPreviewFolder(index_) + "/");
     if (config_.instance)
       files.push_back(io::DatasetLayout::instanceFolder(index_) + "/");
     return files;
@@ -199,8 +299,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   // camera 0 also writes P0 and P1, and P3 when it is the only camera.
   std::vector<std::string> calibration() const override {
     const Eigen::Isometry3d T_cam_cam0 = T_body_cam_.inverse() * T_body_cam0_;
-    const Eigen::Matrix<double, 3, 4> P =
-        renderer_.options().intrinsics.matrix() * T_cam_cam0.matrix().topRows<3>();
+    const Eigen::Matrix<double, 3, 4> P = intrinsics_.matrix() * T_cam_cam0.matrix().topRows<3>();
     const auto line = [&](int n) {
       std::string s = fmt::format("P{}:", n);
       for (int r = 0; r < 3; ++r)
@@ -216,6 +315,11 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     lines.push_back(line(index_ + 2));
     if (index_ == 0 && cameras_ == 1)
       lines.push_back(line(3));
+    if (lens_) {  // after P and Tr (generate's order): OpenCV's distortion of image_{index + 2}
+      const camera::Distortion& d = config_.distortion;
+      lines.push_back(fmt::format("D{}: {:.12e} {:.12e} {:.12e} {:.12e} {:.12e}", index_ + 2, d.k1,
+                                  d.k2, d.p1, d.p2, d.k3));
+    }
     return lines;
   }
 
@@ -230,14 +334,16 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   nlohmann::json state() const override { return nlohmann::json::object(); }
 
  private:
-  static camera::RendererOptions rendererOptions(const CameraConfig& c) {
+  // `k`: the pinhole to render with (larger than the image with a lens, see LensRemap).
+  static camera::RendererOptions rendererOptions(const CameraConfig& c,
+                                                 const camera::Intrinsics& k) {
     camera::RendererOptions o;
-    o.intrinsics = intrinsics(c);
+    o.intrinsics = k;
     o.near_m = c.near_m;
     o.far_m = c.far_m;
     // Fog needs each pixel's range, so a foggy colour image needs the depth pass too.
-    o.passes = {c.rgb, c.depth || (c.rgb && c.fog_visibility_m > 0.0), c.semantic || c.instance,
-                c.semantic || c.instance};
+    const bool ids = c.semantic || c.semantic_preview || c.instance;
+    o.passes = {c.rgb, c.depth || c.depth_float || (c.rgb && c.fog_visibility_m > 0.0), ids, ids};
     return o;
   }
 
@@ -260,14 +366,40 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       }
   }
 
+  // Exposure and sensor noise on the colour image of sample k: the render's values scaled by the
+  // exposure (t · ISO / N², relative to sunny 16), then Gaussian noise of variance read² +
+  // shot² · value / 255 from the counter-based stream (pixel, sample), clipped to 8 bits.
+  void develop(camera::CameraImages& img, std::int64_t k) const {
+    const double gain =
+        config_.shutter_s / 0.01 * config_.iso / 100.0 * std::pow(16.0 / config_.f_number, 2);
+    const double read2 = config_.read_noise_dn * config_.read_noise_dn;
+    const double shot2 = config_.shot_noise_dn * config_.shot_noise_dn / 255.0;
+    const bool noisy = read2 > 0.0 || shot2 > 0.0;
+    if (gain == 1.0 && !noisy)
+      return;
+    std::array<double, 4> z{};
+    for (std::size_t i = 0; i < img.rgb.size(); ++i) {
+      if (noisy && i % 4 == 0)
+        z = noise_.normal4(i / 4, static_cast<std::uint64_t>(k));
+      double v = gain * img.rgb[i];
+      if (noisy)
+        v += std::sqrt(read2 + shot2 * std::min(v, 255.0)) * z[i % 4];
+      img.rgb[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+  }
+
   CameraFrame read(std::int64_t k) const override {
     const Eigen::Isometry3d T = trajectory_.sample(k).pose() * T_body_cam_;
     const scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
     CameraFrame out;
     out.images = renderer_.render(window, T, lighting_);
-    camera::CameraImages& img = out.images;
     if (config_.rgb && config_.fog_visibility_m > 0.0)
-      applyFog(img);
+      applyFog(out.images);  // by the rays of the render's pinhole
+    if (lens_)
+      out.images = lens_->apply(out.images);
+    camera::CameraImages& img = out.images;
+    if (config_.rgb)
+      develop(img, k);
     if (config_.rgb)
       out.rgb_png = io::encodePngRgb8(img.width, img.height, img.rgb);
     if (config_.depth) {
@@ -280,23 +412,45 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       }
       out.depth_png = io::encodePngGray16(img.width, img.height, depth);
     }
+    if (config_.depth_float) {
+      // PFM: a text header, then rows bottom to top of little-endian float32 (scale < 0).
+      std::string& pfm = out.depth_pfm;
+      pfm = fmt::format("Pf\n{} {}\n-1.0\n", img.width, img.height);
+      const std::size_t header = pfm.size(), row = 4 * static_cast<std::size_t>(img.width);
+      pfm.resize(header + row * img.height);
+      for (int v = 0; v < img.height; ++v)
+        std::memcpy(pfm.data() + header + row * (img.height - 1 - v),
+                    img.depth.data() + static_cast<std::size_t>(v) * img.width, row);
+    }
     if (config_.semantic)
       out.semantic_png = io::encodePngGray8(img.width, img.height, img.semantic);
+    if (config_.semantic_preview) {
+      std::vector<std::uint8_t> rgb(3 * img.semantic.size());
+      for (std::size_t i = 0; i < img.semantic.size(); ++i) {
+        const scene::Rgb c = scene::semanticClass(img.semantic[i]).colour;
+        std::copy(c.begin(), c.end(), rgb.begin() + static_cast<std::ptrdiff_t>(3 * i));
+      }
+      out.preview_png = io::encodePngRgb8(img.width, img.height, rgb);
+    }
     return out;
   }
 
   void write(std::int64_t k, CameraFrame& f) override {
     const std::int64_t frame = k / (period_ / trajectory_.samplePeriod());
     const io::DatasetLayout& layout = writer_->layout();
-    const auto file = [&](const std::string& folder) {
-      return layout.inSequence(io::DatasetLayout::frameFile(folder, frame, "png"));
+    const auto file = [&](const std::string& folder, const char* ext = "png") {
+      return layout.inSequence(io::DatasetLayout::frameFile(folder, frame, ext));
     };
     if (config_.rgb)
       writer_->writeFile(file(io::DatasetLayout::imageFolder(index_)), f.rgb_png);
     if (config_.depth)
       writer_->writeFile(file(io::DatasetLayout::depthFolder(index_)), f.depth_png);
+    if (config_.depth_float)
+      writer_->writeFile(file(io::DatasetLayout::depthFolder(index_), "pfm"), f.depth_pfm);
     if (config_.semantic)
       writer_->writeFile(file(io::DatasetLayout::semanticFolder(index_)), f.semantic_png);
+    if (config_.semantic_preview)
+      writer_->writeFile(file(io::DatasetLayout::semanticPreviewFolder(index_)), f.preview_png);
     if (config_.instance) {
       // The sequence's ids, numbered as objects first appear in raster order (the LiDARs of
       // the same sample committed theirs before).
@@ -325,6 +479,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   int cameras_;
   Eigen::Isometry3d T_body_cam0_, T_body_cam_;
   CameraConfig config_;
+  RandomStream noise_;
+  camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
+  std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_;
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
@@ -351,11 +508,7 @@ std::unique_ptr<Sensor> createCamera(const SensorSetup& setup) {
 }
 
 Eigen::Isometry3d cameraBodyPose(const scenario::Json& item) {
-  const Mount mount = readMount(item);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = mount.r_body_sensor * rotationBodyFromKittiCamera();
-  T.translation() = mount.position_m;
-  return T;
+  return bodyFromCamera(readMount(item));
 }
 
 }  // namespace trainsim::sim

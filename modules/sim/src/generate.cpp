@@ -71,13 +71,15 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   if (write_plan)
     write_plan(writer);
   // calib.txt in KITTI's order: P0, P1, … then Tr, Tr_1, … (readers that take lines by position
-  // find them where KITTI has them).
+  // find them where KITTI has them), then what KITTI's odometry files lack (D2: a lens).
   std::vector<std::string> lines;
   for (const auto& sensor : sensors)
     for (const std::string& line : sensor->calibration())
       lines.push_back(line);
   const auto rank = [](const std::string& line) {
-    return line.starts_with("P") ? std::stoi(line.substr(1)) : 1 << 20;
+    return line.starts_with("P")    ? std::stoi(line.substr(1))
+           : line.starts_with("Tr") ? 1 << 20
+                                    : 1 << 21;
   };
   std::stable_sort(lines.begin(), lines.end(),
                    [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });

@@ -21,6 +21,16 @@ struct Passes {
   bool instance = true;
 };
 
+/// A spot light carried with the camera (the train's headlights).
+struct Spot {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< camera frame, m
+  Eigen::Vector3d direction = Eigen::Vector3d(0.0, 0.0, 1.0);  ///< camera frame, unit
+  double half_angle_deg = 15.0;                                ///< the cone's
+  double intensity = 1.0;
+  /// The light falls off as 1 / (1 + (d / half_distance_m)²) with distance d.
+  double half_distance_m = 40.0;
+};
+
 /// Light and sky of a render.
 struct Lighting {
   /// Towards the sun, world frame (ENU-like: z up), unit.
@@ -29,6 +39,7 @@ struct Lighting {
   double ambient = 0.35;                 ///< the share of the surface colour lit by the sky
   scene::Rgb sky_zenith{110, 150, 205};  ///< the background's top and horizon colours
   scene::Rgb sky_horizon{190, 210, 230};
+  std::vector<Spot> spots;
 };
 
 struct RendererOptions {
@@ -42,6 +53,11 @@ struct RendererOptions {
   /// Draw only what meets the view frustum (off: everything in the window, the benchmark's
   /// baseline; the images are the same).
   bool cull = true;
+  /// Level of detail: level L merges the vertices of a mesh in cubic cells of 5 cm · 2^(L−1)
+  /// (L = 1…4; a vertex moves by at most the cell's diagonal); it is drawn where that cell, at
+  /// the nearest point of the object's box, spans at most this many pixels. 0: every object at
+  /// full detail.
+  double lod_pixels = 1.0;
 };
 
 /// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).

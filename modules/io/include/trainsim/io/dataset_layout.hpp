@@ -74,6 +74,8 @@ class DatasetLayout {
   static std::string imageFolder(int index);
   static std::string depthFolder(int index);
   static std::string semanticFolder(int index);
+  /// semantic_rgb_N: the semantic image in the classes' colours, for people to look at.
+  static std::string semanticPreviewFolder(int index);
   static std::string instanceFolder(int index);
   /// A frame's file in a per-frame folder: <folder>/000042.<extension>, relative to the
   /// sequence folder.

@@ -1,0 +1,210 @@
+// The camera's costs on the default scene: ms per frame for the colour pass with depth plus the
+// id pass (semantic and instance) at 1242 × 375 and 1920 × 1080, triangles drawn, with and
+// without frustum culling and level of detail, the image difference those cause against the full
+// scene, and frame time 1 km and 100 km along a route. Software OpenGL (Mesa llvmpipe) under a
+// private Xvfb when DISPLAY is unset.
+//
+//   bench_camera [--quick]   (--quick: the default scene only)
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "bench_world.hpp"
+#include "trainsim/camera/renderer.hpp"
+#include "trainsim/camera/x_display.hpp"
+#include "trainsim/core/frames.hpp"
+#include "trainsim/environment/environment.hpp"
+
+namespace {
+
+using namespace trainsim;
+using bench::Clock;
+using bench::median;
+using bench::ms;
+
+constexpr int kRepeats = 5;
+constexpr double kDrawDistance = 400.0;  // the default camera's
+
+using bench::makeWorld;
+using bench::World;
+
+// The default scenario's front camera on the body at time t.
+Eigen::Isometry3d cameraPose(const sim::Trajectory& trajectory, TimeNs t) {
+  Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
+  T_body_cam.linear() = rotationBodyFromKittiCamera();
+  T_body_cam.translation() = Eigen::Vector3d(10.5, 0.0, 3.2);
+  return trajectory.at(t).pose() * T_body_cam;
+}
+
+// What the renderer leaves out: nothing (everything in the window at full detail), what lies
+// outside the view frustum, or that and detail below a pixel (the run's setting).
+enum class Detail { kFull, kCulled, kLod };
+
+camera::RendererOptions options(int width, int height, Detail detail) {
+  camera::RendererOptions o;
+  o.intrinsics = camera::Intrinsics::fromHorizontalFov(width, height, 81.6 * M_PI / 180.0);
+  o.far_m = kDrawDistance;
+  o.cull = detail != Detail::kFull;
+  o.lod_pixels = detail == Detail::kLod ? 1.0 : 0.0;
+  return o;
+}
+
+// How much an image differs from a reference of the same view.
+struct Difference {
+  double rgb_mean = 0.0;       // mean absolute difference per channel, 0..255
+  double rgb_changed = 0.0;    // share of pixels with any channel off by more than 8
+  double class_changed = 0.0;  // share of pixels with another class
+  double depth_changed = 0.0;  // share of pixels whose depth moved by more than 5 cm
+};
+
+Difference difference(const camera::CameraImages& a, const camera::CameraImages& ref) {
+  Difference d;
+  const std::size_t pixels = ref.semantic.size();
+  for (std::size_t i = 0; i < pixels; ++i) {
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const int e = std::abs(int(a.rgb[3 * i + c]) - int(ref.rgb[3 * i + c]));
+      d.rgb_mean += e;
+      worst = std::max(worst, e);
+    }
+    d.rgb_changed += worst > 8;
+    d.class_changed += a.semantic[i] != ref.semantic[i];
+    d.depth_changed += std::abs(a.depth[i] - ref.depth[i]) > 0.05f;
+  }
+  d.rgb_mean /= 3.0 * double(pixels);
+  d.rgb_changed /= double(pixels);
+  d.class_changed /= double(pixels);
+  d.depth_changed /= double(pixels);
+  return d;
+}
+
+// Frames along a stretch of the main track: every `step_m` from `from_m` to `to_m`.
+struct Stretch {
+  double frame_ms = 0.0, first_ms = 0.0, window_ms = 0.0;  // means
+  double triangles = 0.0, objects = 0.0;
+  Difference diff;  // against the reference renderer, when given (the worst frame's)
+  int frames = 0;
+};
+
+Stretch walk(const World& w, scene::SceneStream& stream, const camera::Renderer& renderer,
+             double from_m, double to_m, double step_m,
+             const camera::Renderer* reference = nullptr) {
+  const sim::Trajectory& trajectory = w.plan->trajectory();
+  const camera::Lighting light;
+  Stretch s;
+  TimeNs t = 0;
+  for (double x = from_m; x < to_m; x += step_m) {
+    while (t < trajectory.endTime() && trajectory.at(t).chainage_m < x)
+      t += 10 * trajectory.samplePeriod();
+    const Eigen::Isometry3d T = cameraPose(trajectory, t);
+    const auto w0 = Clock::now();
+    const scene::SceneWindow window = stream.window(T.translation(), kDrawDistance);
+    s.window_ms += ms(w0);
+    std::vector<double> times;
+    camera::CameraImages img;
+    for (int r = 0; r < kRepeats; ++r) {
+      const auto t0 = Clock::now();
+      img = renderer.render(window, T, light);
+      times.push_back(ms(t0));
+    }
+    s.first_ms += times.front();
+    s.frame_ms += median(times);
+    s.triangles += double(img.triangles);
+    s.objects += double(img.objects);
+    if (reference != nullptr) {
+      const Difference d = difference(img, reference->render(window, T, light));
+      s.diff.rgb_mean = std::max(s.diff.rgb_mean, d.rgb_mean);
+      s.diff.rgb_changed = std::max(s.diff.rgb_changed, d.rgb_changed);
+      s.diff.class_changed = std::max(s.diff.class_changed, d.class_changed);
+      s.diff.depth_changed = std::max(s.diff.depth_changed, d.depth_changed);
+    }
+    ++s.frames;
+  }
+  for (double* v : {&s.frame_ms, &s.first_ms, &s.window_ms, &s.triangles, &s.objects})
+    *v /= s.frames;
+  return s;
+}
+
+void printRow(const std::string& name, const Stretch& s, const Stretch& base, bool diff) {
+  fmt::print("| {} | {} | {:.0f} | {:.0f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} |", name, s.frames,
+             s.objects, s.triangles, s.frame_ms, s.first_ms, s.window_ms,
+             s.frame_ms / base.frame_ms);
+  if (diff)
+    fmt::print(" {:.3f} | {:.4f} | {:.4f} | {:.4f} |", s.diff.rgb_mean, 100 * s.diff.rgb_changed,
+               100 * s.diff.class_changed, 100 * s.diff.depth_changed);
+  else
+    fmt::print(" – | – | – | – |");
+  fmt::print("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const auto display = camera::XDisplay::ensure();
+  if (argc > 1 && std::strcmp(argv[1], "--profile") == 0) {
+    // One frame of the default scene rendered over and over, for a profiler.
+    const World w = makeWorld(0.0);
+    auto stream = w.stage->environment->stream(16);
+    const camera::Renderer renderer(options(1242, 375, Detail::kLod));
+    const Eigen::Isometry3d T = cameraPose(w.plan->trajectory(), 60'000'000'000);
+    const scene::SceneWindow window = stream->window(T.translation(), kDrawDistance);
+    renderer.render(window, T, camera::Lighting());
+    const auto t0 = Clock::now();
+    camera::CameraImages img;
+    for (int i = 0; i < 50; ++i)
+      img = renderer.render(window, T, camera::Lighting());
+    fmt::print("{:.1f} ms a frame, {} objects, {} triangles\n", ms(t0) / 50, img.objects,
+               img.triangles);
+    return 0;
+  }
+  const auto p0 = Clock::now();
+  const World def = makeWorld(0.0);
+  fmt::print(
+      "default scenario planned in {:.1f} s; colour + depth + id passes, draw distance {:.0f} m, "
+      "median of {} renders a frame (first: with the actors made)\n\n",
+      ms(p0) / 1e3, kDrawDistance, kRepeats);
+  fmt::print(
+      "| frame | frames | objects | triangles | ms a frame | first render ms | window ms | x "
+      "first row | RGB mean diff | RGB pixels changed % | class pixels changed % | depth pixels "
+      "changed > 5 cm % |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& [width, height] : {std::pair{1242, 375}, std::pair{1920, 1080}}) {
+    const camera::Renderer full(options(width, height, Detail::kFull));
+    const camera::Renderer culled(options(width, height, Detail::kCulled));
+    const camera::Renderer lod(options(width, height, Detail::kLod));
+    auto stream = def.stage->environment->stream(16);
+    const Stretch base = walk(def, *stream, full, 150.0, 5900.0, 300.0);
+    printRow(fmt::format("{} x {}, everything in the window", width, height), base, base, false);
+    const Stretch c = walk(def, *stream, culled, 150.0, 5900.0, 300.0, &full);
+    printRow(fmt::format("{} x {}, frustum culled", width, height), c, base, true);
+    const Stretch l = walk(def, *stream, lod, 150.0, 5900.0, 300.0, &full);
+    printRow(fmt::format("{} x {}, culled + levels of detail (1 px)", width, height), l, base,
+             true);
+  }
+  if (quick)
+    return 0;
+
+  // --- 1 km and 100 km along one 100 km route --------------------------------------------------
+  const auto p1 = Clock::now();
+  const World far = makeWorld(100'000.0);
+  fmt::print("\n100 km route planned in {:.1f} s; 1242 x 375, culled, levels of detail\n\n",
+             ms(p1) / 1e3);
+  fmt::print(
+      "| stretch | frames | objects | triangles | ms a frame | first render ms | window ms | x km "
+      "1.5-2.5 |\n|---|---|---|---|---|---|---|---|\n");
+  const camera::Renderer renderer(options(1242, 375, Detail::kLod));
+  auto stream = far.stage->environment->stream(16);
+  const Stretch near = walk(far, *stream, renderer, 1500.0, 2500.0, 50.0);
+  const Stretch end = walk(far, *stream, renderer, 98'500.0, 99'500.0, 50.0);
+  for (const auto& [name, s] : {std::pair{"km 1.5-2.5", near}, std::pair{"km 98.5-99.5", end}})
+    fmt::print("| {} | {} | {:.0f} | {:.0f} | {:.1f} | {:.1f} | {:.1f} | {:.3f} |\n", name,
+               s.frames, s.objects, s.triangles, s.frame_ms, s.first_ms, s.window_ms,
+               s.frame_ms / near.frame_ms);
+  return 0;
+}
