@@ -150,9 +150,9 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "visibility, applied by each pixel's range); 0: clear")
         .range(0, 100000);
     b.boolean("headlights", &C::headlights,
-              "The train's two headlights (1 m above the rail, 0.6 m either side of the centre, "
-              "at the front of the cab; 15 deg cones) light the scene, at any daytime (always on "
-              "at night)");
+              "The train's two headlights (1 m above the body's reference, 0.6 m either side of "
+              "the centre, 0.5 m ahead of the camera; 15 deg cones dipped 1 deg, half the light "
+              "at 35 m) light the scene, at any daytime (always on at night)");
     b.number("shutter_s", &C::shutter_s, units::si("s"),
              "Exposure time. The presets' colours are those of a sunny-16 exposure (1/100 s at "
              "f/16, ISO 100); other settings scale them by shutter_s * iso / f_number^2 "
@@ -230,8 +230,8 @@ camera::Lighting lighting(const CameraConfig& c) {
     l.sky_horizon = {18, 22, 38};
   }
   if (c.headlights || c.daytime == Daytime::kNight) {
-    // Two lamps at the cab's front, in the body frame (x forward, y left, z up), dipped 1°,
-    // then into the camera's frame.
+    // Two lamps 0.5 m ahead of the camera, in the body frame (x forward, y left, z up), dipped
+    // 1°, then into the camera's frame.
     const Eigen::Isometry3d T_cam_body = bodyFromCamera(c.basics.mount.mount()).inverse();
     for (const double y : {0.6, -0.6}) {
       camera::Spot s;
