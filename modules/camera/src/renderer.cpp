@@ -7,11 +7,9 @@
 #include <deque>
 #include <functional>
 #include <future>
-#include <limits>
 #include <map>
 #include <mutex>
 #include <thread>
-#include <unordered_map>
 
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
@@ -32,6 +30,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "level_of_detail.hpp"
 #include "trainsim/core/error.hpp"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
@@ -111,15 +110,6 @@ std::array<std::uint8_t, 3> idColour(scene::ClassId cls, std::uint32_t slot) {
           static_cast<std::uint8_t>(object & 0xFF)};
 }
 
-// Levels of detail: level L ≥ 1 merges the mesh's vertices in cubic cells of side
-// kFinestCell_m · 2^(L−1) (mesh units), dropping the triangles that collapse
-// (clustered()); level 0 is the mesh itself.
-constexpr int kLevels = 5;
-constexpr double kFinestCell_m = 0.05;
-double cellSize(int level) {
-  return kFinestCell_m * std::ldexp(1.0, level - 1);
-}
-
 // One level of a shared mesh as VTK polydata (float vertices relative to the mesh's origin),
 // with its triangles' surface colours ("albedo") and classes ("class").
 struct MeshLevel {
@@ -193,59 +183,6 @@ vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
   poly->GetCellData()->AddArray(albedo);
   poly->GetCellData()->AddArray(cls);
   return poly;
-}
-
-// A lighter level of a mesh by vertex clustering (Rossignac and Borrel): the vertices in each
-// cubic cell of side `cell` merge into one at their mean, and the triangles left with fewer
-// than three corners go; parts (class, material) are kept. No vertex moves by more than the
-// cell's diagonal. Written here rather than taken from VTK: vtkBinnedDecimation and
-// vtkQuadricClustering keep dense arrays over every cell of the mesh's box (a 250 m terrain
-// tile at 5 cm is 10⁹ cells, gigabytes to clear per mesh), where a hash of the occupied cells
-// costs what the mesh has. Sequential and in vertex order, so the result is a pure function of
-// the mesh.
-scene::Mesh clustered(const scene::Mesh& mesh, double cell) {
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Vector3f hi = -lo;
-  for (const Eigen::Vector3f& v : mesh.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  // Cell coordinates take 21 bits each in the key; a mesh wider than 2²¹ cells stays as it is.
-  if (mesh.vertices.empty() || ((hi - lo).cast<double>() / cell).maxCoeff() >= 0x1p21)
-    return mesh;
-  std::unordered_map<std::uint64_t, std::uint32_t> cells;
-  std::vector<std::uint32_t> merged(mesh.vertices.size());
-  std::vector<Eigen::Vector3d> sum;
-  std::vector<int> count;
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d c = ((mesh.vertices[i] - lo).cast<double>() / cell).array().floor();
-    const std::uint64_t key = static_cast<std::uint64_t>(c.x()) << 42 |
-                              static_cast<std::uint64_t>(c.y()) << 21 |
-                              static_cast<std::uint64_t>(c.z());
-    const auto [it, added] = cells.emplace(key, static_cast<std::uint32_t>(sum.size()));
-    if (added) {
-      sum.emplace_back(Eigen::Vector3d::Zero());
-      count.push_back(0);
-    }
-    merged[i] = it->second;
-    sum[it->second] += mesh.vertices[i].cast<double>();
-    ++count[it->second];
-  }
-  scene::Mesh out;
-  out.vertices.reserve(sum.size());
-  for (std::size_t k = 0; k < sum.size(); ++k)
-    out.vertices.push_back((sum[k] / count[k]).cast<float>());
-  for (const scene::MeshPart& part : mesh.parts) {
-    out.beginPart(part.cls, part.material);
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
-         ++t) {
-      const std::uint32_t a = merged[mesh.triangles[t][0]], b = merged[mesh.triangles[t][1]],
-                          c = merged[mesh.triangles[t][2]];
-      if (a != b && b != c && a != c)
-        out.addTriangle(a, b, c);
-    }
-  }
-  return out;
 }
 
 // The id pass's polydata of one object at one level: the level's points and triangles (shared,

@@ -273,7 +273,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     if (scene_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
-    T_body_cam_ = cameraBodyPose(setup.config);
+    T_body_cam_ = bodyFromCamera(c.basics.mount.mount());
   }
 
   std::string name() const override { return name_; }
@@ -398,10 +398,10 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     if (lens_)
       out.images = lens_->apply(out.images);
     camera::CameraImages& img = out.images;
-    if (config_.rgb)
+    if (config_.rgb) {
       develop(img, k);
-    if (config_.rgb)
       out.rgb_png = io::encodePngRgb8(img.width, img.height, img.rgb);
+    }
     if (config_.depth) {
       std::vector<std::uint16_t> depth(img.depth.size());
       for (std::size_t i = 0; i < depth.size(); ++i) {
