@@ -4,7 +4,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "trainsim/core/error.hpp"
@@ -18,18 +20,56 @@ constexpr std::uint64_t kColumnBits = 20;  // random keys: frame << 20 | column
 // Columns handed to one task: enough rays for coherent packets and little scheduling.
 constexpr int kColumnGrain = 16;
 
+// Columns between the poses asked of the caller (the ones between are interpolated).
+constexpr int kPoseStep = 16;
+
 // A monotonic stand-in for the azimuth atan2(y, x) mapped to [0, 2π): 0 on +x, rising
 // counter-clockwise to 4 just before it (the "diamond angle"). It orders points exactly as
 // the azimuth does, with one division instead of an atan2. y = −0 counts as on +x, as the
-// quadrant rule (y ≥ 0) counts it.
-double pseudoAzimuth(float xf, float yf) {
+// quadrant rule (y ≥ 0) counts it. Never negative (−0 comes out as +0), so the float's bits
+// order as the value does.
+float pseudoAzimuth(float xf, float yf) {
   const double x = xf, y = yf;
   const double d = std::abs(x) + std::abs(y);
-  if (d == 0.0)
-    return 0.0;
-  const double r = y / d;
+  const double r = y / (d > 0.0 ? d : 1.0);  // (0, 0) gives 0
   const double a = x >= 0.0 ? r : 2.0 - r;
-  return a < 0.0 ? a + 4.0 : a;
+  return static_cast<float>(a < 0.0 ? a + 4.0 : a) + 0.0f;
+}
+
+// A slot's key when it holds no return.
+constexpr float kNoReturn = -1.0f;
+
+// Orders one ring's slots (`columns` × `returns` keys, kNoReturn where there is no return) by
+// key, ties by slot, into `order` as key bits << 32 | slot; returns how many there are. A
+// counting sort into one bucket per column's width of azimuth, then an insertion sort that only
+// has to order the few entries sharing a bucket: linear time.
+std::size_t orderRing(const float* keys, std::size_t columns, std::size_t returns,
+                      std::vector<std::uint64_t>& order, std::vector<std::uint32_t>& start) {
+  const std::size_t slots = columns * returns;
+  std::fill(start.begin(), start.end(), 0u);
+  const auto scale = static_cast<float>(columns) / 4.0f;
+  const auto bucket = [&](float key) {
+    return std::min(columns - 1, static_cast<std::size_t>(key * scale));
+  };
+  std::size_t n = 0;
+  for (std::size_t s = 0; s < slots; ++s)
+    if (keys[s] >= 0.0f) {
+      ++start[bucket(keys[s]) + 1];
+      ++n;
+    }
+  for (std::size_t b = 0; b < columns; ++b)
+    start[b + 1] += start[b];
+  order.resize(n);
+  // Filled from the last slot back: a ring's azimuth falls column by column, so each bucket
+  // then fills in rising order and the insertion sort has next to nothing to do.
+  for (std::size_t s = slots; s-- > 0;)
+    if (keys[s] >= 0.0f)
+      order[start[bucket(keys[s])]++] =
+          static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(keys[s])) << 32 | s;
+  for (std::size_t i = 1; i < n; ++i)
+    for (std::size_t j = i; j > 0 && order[j] < order[j - 1]; --j)
+      std::swap(order[j], order[j - 1]);
+  return n;
 }
 
 // One sub-ray's hit and its backscatter.
@@ -115,29 +155,35 @@ std::size_t selectReturns(std::vector<Echo>& echoes, const LidarParams& params) 
 }  // namespace
 
 // A frame's working memory, reused from frame to frame (allocating and zeroing a few MB per
-// frame cost as much as the traversal): every slot's point, whether it holds a return, and its
-// azimuth key; per ring its returns in output order.
+// frame cost as much as the traversal): every slot's point and its key (kNoReturn for none),
+// slots ring by ring; per ring its returns in output order.
 struct Scanner::Scratch {
+  std::vector<LidarPoint> points;
+  std::vector<float> keys;
+  std::vector<std::vector<std::uint64_t>> order;    // per ring: key bits << 32 | slot
+  std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
+};
+
+// One task's working memory: its columns' rays, their world directions and hits (a few tens of
+// kB, still in the core's cache when the returns are worked out from them), reused from task to
+// task rather than held for the whole frame.
+struct Scanner::Block {
   std::vector<Ray> rays;
   std::vector<RayHit> hits;
-  std::vector<LidarPoint> points;
-  std::vector<std::uint8_t> valid;
-  std::vector<double> azimuth;                                       // by slot
-  std::vector<std::vector<std::pair<double, std::uint32_t>>> order;  // per ring: (key, slot)
-  std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
+  std::vector<Eigen::Isometry3d> poses;  // per column
+  std::vector<double> noise;
+  std::vector<std::uint8_t> kept;  // per laser: 0 where dropout takes the column's pulse
+  std::vector<SubHit> sub;
+  std::vector<Echo> echoes;
 };
 
 Scanner::~Scanner() = default;
 
 std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   auto s = std::make_unique<Scratch>();
-  const auto rays = static_cast<std::size_t>(raysPerFrame());
   const auto slots = static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse());
-  s->rays.resize(rays);
-  s->hits.resize(rays);
   s->points.resize(slots);
-  s->valid.resize(slots);
-  s->azimuth.resize(slots);
+  s->keys.resize(slots);
   s->order.resize(params_.pattern.lasers.size());
   for (auto& o : s->order)
     o.reserve(slots / params_.pattern.lasers.size());
@@ -160,7 +206,12 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
       directions_[static_cast<std::size_t>(c) * L + l] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     }
+  axes_.reserve(directions_.size());
+  for (const Eigen::Vector3d& d : directions_)
+    axes_.push_back(d.cast<float>());
   ring_lasers_ = p.ringLasers();
+  for (const scene::Material& m : scene::materials())
+    backscatter_.emplace_back(m);
   if (params_.sub_rays < 1 || params_.sub_rays > 1024 || !(params_.divergence_rad >= 0.0))
     throw ConfigError("LiDAR: sub_rays must be 1..1024 and the divergence not negative");
   // Sub-ray offsets over the footprint's disc of radius divergence / 2: a sunflower (Vogel)
@@ -181,48 +232,42 @@ void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3
                          Ray* out) const {
   const ScanPattern& p = params_.pattern;
   const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
-  const std::size_t n = footprint_.size();
-  for (std::size_t l = 0; l < p.lasers.size(); ++l) {
+  const auto t_near = static_cast<float>(p.range_min_m), t_far = static_cast<float>(p.range_max_m);
+  const std::size_t L = p.lasers.size(), n = footprint_.size();
+  if (n == 1) {
+    // The beams' axes, rotated in float: a rotation keeps them unit to float precision (a few
+    // 1e-7, 0.04 mm at 200 m), so there is nothing to normalise.
+    const Eigen::Matrix3f rotation = T.linear().cast<float>();
+    const Eigen::Vector3f* axes = &axes_[static_cast<std::size_t>(c) * L];
+    for (std::size_t l = 0; l < L; ++l)
+      out[l] = {o, rotation * axes[l], t_near, t_far};
+    return;
+  }
+  for (std::size_t l = 0; l < L; ++l) {
     const Eigen::Vector3d& d = direction(c, static_cast<int>(l));
-    if (n == 1) {  // the beam's axis
-      Ray& r = out[l];
-      r.origin = o;
-      r.direction = (T.linear() * d).cast<float>().normalized();
-      r.t_near = static_cast<float>(p.range_min_m);
-      r.t_far = static_cast<float>(p.range_max_m);
-      continue;
-    }
     // Across the beam: v horizontal (azimuth increasing), u = d × v (elevation increasing).
     Eigen::Vector3d v(-d.y(), d.x(), 0.0);
     v = v.norm() > 1e-9 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d::UnitY();
     const Eigen::Vector3d u = d.cross(v);
     for (std::size_t k = 0; k < n; ++k) {
-      Ray& r = out[l * n + k];
       const Eigen::Vector2d& f = footprint_[k];
       const double angle = f.norm();
       const Eigen::Vector3d sub =
           angle == 0.0 ? d
                        : Eigen::Vector3d(std::cos(angle) * d +
                                          std::sin(angle) / angle * (f.x() * v + f.y() * u));
-      r.origin = o;
-      r.direction = (T.linear() * sub).cast<float>().normalized();
-      r.t_near = static_cast<float>(p.range_min_m);
-      r.t_far = static_cast<float>(p.range_max_m);
+      out[l * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near, t_far};
     }
   }
-}
-
-Eigen::Isometry3d Scanner::columnPose(const PoseAt& pose, int c,
-                                      const Eigen::Isometry3d& frame_pose) const {
-  return params_.motion_distortion ? pose(c * params_.pattern.columnPeriod()) : frame_pose;
 }
 
 std::vector<Ray> Scanner::rays(const RayScene& scene, const PoseAt& pose) const {
   const std::size_t per_column = params_.pattern.lasers.size() * footprint_.size();
   std::vector<Ray> out(static_cast<std::size_t>(params_.pattern.columns) * per_column);
-  const Eigen::Isometry3d frame_pose = pose(0.0);
+  std::vector<Eigen::Isometry3d> poses;
+  columnPoses(pose, pose(0.0), 0, params_.pattern.columns, poses);
   for (int c = 0; c < params_.pattern.columns; ++c)
-    columnRays(c, columnPose(pose, c, frame_pose), scene.origin(),
+    columnRays(c, poses[static_cast<std::size_t>(c)], scene.origin(),
                &out[static_cast<std::size_t>(c) * per_column]);
   return out;
 }
@@ -237,157 +282,204 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
 void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                    std::uint64_t frame, LidarFrame& out) const {
   const ScanPattern& p = params_.pattern;
-  const std::size_t L = p.lasers.size();
-  const auto W = static_cast<std::size_t>(p.columns);
-  const Eigen::Isometry3d frame_pose = pose(0.0);
-  const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
-  const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
+  const std::size_t W = static_cast<std::size_t>(p.columns), R = returnsPerPulse();
   std::unique_ptr<Scratch> scratch = scratch_.take([this] { return makeScratch(); });
   Scratch& w = *scratch;
-
-  const std::size_t N = footprint_.size();
-  const auto R = static_cast<std::size_t>(returnsPerPulse());
-  const bool noisy = params_.range_sigma_m > 0.0 || params_.range_sigma_slope > 0.0;
+  const Eigen::Isometry3d frame_pose = pose(0.0);
+  const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
   tbb::parallel_for(tbb::blocked_range<int>(0, p.columns, kColumnGrain), [&](const auto& range) {
-    const std::size_t n = static_cast<std::size_t>(range.size()) * L * N;
-    const std::size_t first = static_cast<std::size_t>(range.begin()) * L * N;
-    const std::span<Ray> rays(w.rays.data() + first, n);
-    const std::span<RayHit> hits(w.hits.data() + first, n);
-    std::vector<Eigen::Isometry3d> poses;
-    poses.reserve(static_cast<std::size_t>(range.size()));
-    for (int c = range.begin(); c < range.end(); ++c) {
-      poses.push_back(columnPose(pose, c, frame_pose));
-      columnRays(c, poses.back(), scene.origin(),
-                 &rays[static_cast<std::size_t>(c - range.begin()) * L * N]);
-    }
-    scene.intersect(std::span<const Ray>(rays), hits);
-    std::vector<double> noise(L * R, 0.0);
-    std::vector<SubHit> sub;
-    std::vector<Echo> echoes;
-    for (int c = range.begin(); c < range.end(); ++c) {
-      const std::uint64_t key = (frame << kColumnBits) | static_cast<std::uint64_t>(c);
-      if (noisy)
-        random.normals(key, noise.data(), L * R);
-      const Eigen::Isometry3d& T = poses[static_cast<std::size_t>(c - range.begin())];
-      // From the sensor at this column's firing to the sensor at the frame time.
-      const Eigen::Isometry3d deskew = world_to_frame * T;
-      for (std::size_t l = 0; l < L; ++l) {
-        // Slots ring by ring, so that ordering reads each ring straight through.
-        const std::size_t slot0 = (static_cast<std::size_t>(p.lasers[l].ring) * W + c) * R;
-        for (std::size_t j = 0; j < R; ++j)
-          w.valid[slot0 + j] = 0;
-        const std::size_t base = (static_cast<std::size_t>(c - range.begin()) * L + l) * N;
-        std::size_t chosen = 0;
-        if (N == 1) {
-          // One ray a pulse (no divergence), the common case: its hit is the only echo.
-          const RayHit& h = hits[base];
-          if (!h.hit())
-            continue;
-          const double cos_theta =
-              std::abs(h.normal.cast<double>().dot(T.linear() * direction(c, static_cast<int>(l))));
-          const double rho = reflectivity(scene::material(h.material), cos_theta);
-          if (!(rho > 0.0) || rho < params_.intensity_threshold)
-            continue;  // past the material's maximum incidence angle, or too faint
-          echoes.resize(1);
-          echoes[0] = {h.range, rho, 1.0, &h};
-          chosen = 1;
-        } else {
-          // The pulse's sub-ray hits with their backscatter, grouped into echoes.
-          sub.clear();
-          for (std::size_t k = 0; k < N; ++k) {
-            const RayHit& h = hits[base + k];
-            if (!h.hit())
-              continue;
-            const double cos_theta =
-                std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
-            sub.push_back({&h, h.range, reflectivity(scene::material(h.material), cos_theta)});
-          }
-          if (sub.empty())
-            continue;
-          echoesOf(sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
-          chosen = selectReturns(echoes, params_);
-          if (chosen == 0)
-            continue;  // none bright enough
-        }
-        if (params_.dropout > 0.0 && dropout_random.uniform4(key, l / 4)[l % 4] <= params_.dropout)
-          continue;
-        const Eigen::Vector3d& d_sensor = direction(c, static_cast<int>(l));
-        for (std::size_t j = 0; j < chosen; ++j) {
-          const Echo& e = echoes[j];
-          const double truth = e.range;
-          const double range_m =
-              truth +
-              (params_.range_sigma_m + params_.range_sigma_slope * truth) * noise[j * L + l];
-          if (range_m < p.range_min_m || range_m > p.range_max_m)
-            continue;
-          const std::size_t slot = slot0 + j;
-          LidarPoint& pt = w.points[slot];
-          const Eigen::Vector3d raw = d_sensor * range_m;
-          pt.xyz = (deskew * raw).cast<float>();
-          pt.xyz_raw = raw.cast<float>();
-          pt.intensity = static_cast<float>(
-              scaledIntensity(e.reflectivity, range_m, params_.range_falloff, params_.scale));
-          pt.range_m = static_cast<float>(range_m);
-          pt.time_s = static_cast<float>(p.firingTime(c, static_cast<int>(l)));
-          pt.ring = static_cast<std::uint16_t>(p.lasers[l].ring);
-          pt.return_index = static_cast<std::uint8_t>(j);
-          pt.coverage = static_cast<float>(e.coverage);
-          pt.cls = e.label->cls;
-          pt.material = e.label->material;
-          pt.instance = e.label->instance;
-          const Eigen::Vector3f& written = params_.motion_compensated ? pt.xyz : pt.xyz_raw;
-          w.azimuth[slot] = pseudoAzimuth(written.x(), written.y());
-          w.valid[slot] = 1;
-        }
-      }
-    }
+    std::unique_ptr<Block> block = blocks_.take();
+    castColumns(scene, pose, frame_pose, world_to_frame, random, frame, range.begin(), range.end(),
+                *block, w);
+    blocks_.give(std::move(block));
   });
 
   // KITTI order: ring by ring, each by the azimuth of its written coordinates (ties, which only
-  // coincident points make, by column). Each ring sorts (key, column) pairs, not the points, and
+  // coincident points make, by column). Each ring sorts (key, slot) pairs, not the points, and
   // not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
   const std::size_t rings = ring_lasers_.size();
-  const std::size_t per_ring = W * R;  // a ring's slots: column by column, its returns
   std::vector<std::size_t> first(rings + 1, 0);
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
-    // A counting sort into one bucket per column's width of azimuth, then an insertion sort
-    // that only has to order the few points sharing a bucket: linear time.
-    auto& order = w.order[r];
-    auto& start = w.buckets[r];
-    std::fill(start.begin(), start.end(), 0u);
-    const auto bucket = [&](double key) {
-      return std::min(W - 1, static_cast<std::size_t>(key * (static_cast<double>(W) / 4.0)));
-    };
-    const std::size_t ring0 = r * per_ring;
-    std::size_t n = 0;
-    for (std::size_t s = 0; s < per_ring; ++s)
-      if (w.valid[ring0 + s]) {
-        ++start[bucket(w.azimuth[ring0 + s]) + 1];
-        ++n;
-      }
-    for (std::size_t b = 0; b < W; ++b)
-      start[b + 1] += start[b];
-    order.resize(n);
-    for (std::size_t s = 0; s < per_ring; ++s)
-      if (w.valid[ring0 + s]) {
-        const double key = w.azimuth[ring0 + s];
-        order[start[bucket(key)]++] = {key, static_cast<std::uint32_t>(s)};
-      }
-    for (std::size_t i = 1; i < n; ++i)
-      for (std::size_t j = i; j > 0 && order[j] < order[j - 1]; --j)
-        std::swap(order[j], order[j - 1]);
-    first[r + 1] = n;
+    first[r + 1] = orderRing(w.keys.data() + r * W * R, W, R, w.order[r], w.buckets[r]);
   });
   for (std::size_t r = 0; r < rings; ++r)
     first[r + 1] += first[r];
   out.rays = raysPerFrame();
   out.points.resize(first[rings]);
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
-    LidarPoint* points = out.points.data() + first[r];
-    for (const auto& [key, s] : w.order[r])
-      *points++ = w.points[r * per_ring + s];
+    const LidarPoint* from = w.points.data() + r * W * R;
+    LidarPoint* to = out.points.data() + first[r];
+    const std::vector<std::uint64_t>& order = w.order[r];
+    // A gather: each point is asked for well before it is copied, so that the copy does not
+    // wait on the memory one point at a time.
+    constexpr std::size_t kAhead = 16;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (k + kAhead < order.size())
+        __builtin_prefetch(from + (order[k + kAhead] & 0xFFFFFFFFu));
+      std::memcpy(static_cast<void*>(to++), from + (order[k] & 0xFFFFFFFFu), sizeof(LidarPoint));
+    }
   });
   scratch_.give(std::move(scratch));
+}
+
+// Everything below reads the scanner's settings from locals: the uint8 stores into the points
+// may alias anything, so values read through `this` or a captured reference would be loaded
+// again after every store.
+void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
+                          const Eigen::Isometry3d& frame_pose,
+                          const Eigen::Isometry3d& world_to_frame, const RandomStream& random,
+                          std::uint64_t frame, int begin, int end, Block& b, Scratch& w) const {
+  const ScanPattern& p = params_.pattern;
+  const std::size_t L = p.lasers.size(), W = static_cast<std::size_t>(p.columns);
+  const std::size_t N = footprint_.size(), R = static_cast<std::size_t>(returnsPerPulse());
+  const double sigma0 = params_.range_sigma_m, sigma1 = params_.range_sigma_slope;
+  const double range_min = p.range_min_m, range_max = p.range_max_m;
+  const double threshold = params_.intensity_threshold, dropout = params_.dropout;
+  const bool noisy = sigma0 > 0.0 || sigma1 > 0.0, falloff = params_.range_falloff;
+  const bool compensated = params_.motion_compensated;
+  const IntensityScale scale = params_.scale;
+  const double column_period = p.columnPeriod();
+  const Backscatter* backscatter = backscatter_.data();
+  const Laser* lasers = p.lasers.data();
+  float* keys = w.keys.data();
+  LidarPoint* points = w.points.data();
+  const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
+
+  const auto columns = static_cast<std::size_t>(end - begin);
+  b.rays.resize(columns * L * N);
+  b.hits.resize(columns * L * N);
+  b.noise.assign(L * R, 0.0);
+  b.kept.assign(L, 1);
+  columnPoses(pose, frame_pose, begin, end, b.poses);
+  for (int c = begin; c < end; ++c)
+    columnRays(c, b.poses[static_cast<std::size_t>(c - begin)], scene.origin(),
+               &b.rays[static_cast<std::size_t>(c - begin) * L * N]);
+  scene.intersect(std::span<const Ray>(b.rays), std::span<RayHit>(b.hits));
+  const Ray* rays = b.rays.data();
+  const RayHit* hits = b.hits.data();
+  const double* noise = b.noise.data();
+  const std::uint8_t* kept = b.kept.data();
+  std::vector<Echo>& echoes = b.echoes;
+  for (int c = begin; c < end; ++c) {
+    const auto i = static_cast<std::size_t>(c - begin);
+    const std::uint64_t key = (frame << kColumnBits) | static_cast<std::uint64_t>(c);
+    if (noisy)
+      random.normals(key, b.noise.data(), L * R);
+    if (dropout > 0.0)
+      for (std::size_t l = 0; l < L; ++l)
+        b.kept[l] = dropout_random.uniform4(key, l / 4)[l % 4] > dropout;
+    // From the sensor at this column's firing to the sensor at the frame time.
+    const Eigen::Isometry3d deskew = world_to_frame * b.poses[i];
+    const double column_time = c * column_period;
+    const Eigen::Vector3d* axes = &directions_[static_cast<std::size_t>(c) * L];
+    // Writes slot `slot` of laser l: the echo at `truth` m with reflectivity `rho`, if `ok` and
+    // its noisy range is within limits; otherwise marks the slot empty. Branch-free: the point's
+    // fields are written either way (an empty slot's are never read).
+    const auto put = [&](std::size_t l, std::size_t slot, std::size_t j, double truth, double rho,
+                         double coverage, const RayHit& label, bool ok) {
+      const double range_m = truth + (sigma0 + sigma1 * truth) * noise[j * L + l];
+      ok = ok && range_m >= range_min && range_m <= range_max;
+      LidarPoint& pt = points[slot];
+      const Eigen::Vector3d raw = axes[l] * range_m;
+      pt.xyz = (deskew * raw).cast<float>();
+      pt.xyz_raw = raw.cast<float>();
+      pt.intensity = static_cast<float>(scaledIntensity(rho, range_m, falloff, scale));
+      pt.range_m = static_cast<float>(range_m);
+      pt.time_s = static_cast<float>(column_time + lasers[l].time_offset_s);
+      pt.ring = static_cast<std::uint16_t>(lasers[l].ring);
+      pt.return_index = static_cast<std::uint8_t>(j);
+      pt.coverage = static_cast<float>(coverage);
+      pt.cls = label.cls;
+      pt.material = label.material;
+      pt.instance = label.instance;
+      const Eigen::Vector3f& written = compensated ? pt.xyz : pt.xyz_raw;
+      keys[slot] = ok ? pseudoAzimuth(written.x(), written.y()) : kNoReturn;
+    };
+    for (std::size_t l = 0; l < L; ++l) {
+      // Slots ring by ring, so that ordering reads each ring straight through.
+      const std::size_t slot0 = (static_cast<std::size_t>(lasers[l].ring) * W + c) * R;
+      const std::size_t base = (i * L + l) * N;
+      if (N == 1) {
+        // One ray a pulse (no divergence), the common case: its hit is the only echo, dropped
+        // past the material's maximum incidence angle, when too faint, or by chance. A miss
+        // (infinite range, no normal) comes out as no return.
+        const RayHit& h = hits[base];
+        const double cos_theta =
+            std::abs(h.normal.cast<double>().dot(rays[base].direction.cast<double>()));
+        const double rho = backscatter[h.material](cos_theta);
+        put(l, slot0, 0, h.range, rho, 1.0, h,
+            h.hit() && rho > 0.0 && rho >= threshold && kept[l] != 0);
+        for (std::size_t j = 1; j < R; ++j)
+          keys[slot0 + j] = kNoReturn;
+        continue;
+      }
+      // The pulse's sub-ray hits with their backscatter, grouped into echoes.
+      b.sub.clear();
+      for (std::size_t k = 0; k < N; ++k) {
+        const RayHit& h = hits[base + k];
+        if (!h.hit())
+          continue;
+        const double cos_theta =
+            std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
+        b.sub.push_back({&h, h.range, backscatter[h.material](cos_theta)});
+      }
+      std::size_t chosen = 0;
+      if (!b.sub.empty() && kept[l] != 0) {
+        echoesOf(b.sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
+        chosen = selectReturns(echoes, params_);  // 0 when none is bright enough
+      }
+      for (std::size_t j = 0; j < R; ++j) {
+        if (j < chosen)
+          put(l, slot0 + j, j, echoes[j].range, echoes[j].reflectivity, echoes[j].coverage,
+              *echoes[j].label, true);
+        else
+          keys[slot0 + j] = kNoReturn;
+      }
+    }
+  }
+}
+
+void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin,
+                          int end, std::vector<Eigen::Isometry3d>& out) const {
+  out.clear();
+  if (!params_.motion_distortion) {
+    out.assign(static_cast<std::size_t>(end - begin), frame_pose);
+    return;
+  }
+  // The pose is asked for at every kPoseStep-th column and interpolated in between (position
+  // linearly, attitude by normalised quaternion interpolation): over 16 columns (0.8 ms at
+  // 10 Hz × 2048) a train's motion is a straight line and a turn of a few 1e-5 rad, so the
+  // columns' poses are those of the trajectory to far below a micrometre, without a slerp and
+  // a rotation matrix per column. The anchors are fixed columns, so the result does not depend
+  // on how the columns are split into tasks.
+  const double period = params_.pattern.columnPeriod();
+  int anchor = -1;
+  Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), z = a;
+  Eigen::Quaterniond qa = Eigen::Quaterniond::Identity(), qz = qa;
+  for (int c = begin; c < end; ++c) {
+    const int first = c / kPoseStep * kPoseStep;
+    if (first != anchor) {
+      anchor = first;
+      a = pose(first * period);
+      z = pose((first + kPoseStep) * period);
+      qa = Eigen::Quaterniond(a.linear());
+      qz = Eigen::Quaterniond(z.linear());
+      if (qa.dot(qz) < 0.0)
+        qz.coeffs() = -qz.coeffs();
+    }
+    const int k = c - first;
+    if (k == 0) {
+      out.push_back(a);
+      continue;
+    }
+    const double u = static_cast<double>(k) / kPoseStep;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = (1.0 - u) * a.translation() + u * z.translation();
+    T.linear() = Eigen::Quaterniond((1.0 - u) * qa.coeffs() + u * qz.coeffs())
+                     .normalized()
+                     .toRotationMatrix();
+    out.push_back(T);
+  }
 }
 
 }  // namespace trainsim::lidar

@@ -263,6 +263,8 @@ struct InstInfo {
   std::shared_ptr<const ProtoBvh> proto;  // set for an object
   scene::InstanceId instance = 0;
   Eigen::Matrix3f normal = Eigen::Matrix3f::Identity();  // inverse transpose of the linear part
+  bool rotated = false;                                  // the linear part is not the identity
+  GeomInfo object;  // an object's labels (its prototype's mesh and its instance id)
 };
 
 struct RayScene::Impl {
@@ -392,27 +394,22 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
     const InstInfo& inst = s.instances[p.hit.instID[0][k]];
     const Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
     h.range = p.ray.tfar[k];
-    h.normal = (inst.normal * ng).normalized();
-    const unsigned prim = p.hit.primID[k];
-    const GeomInfo* g = nullptr;
-    GeomInfo proto_info;
-    if (inst.tile) {
-      g = &inst.tile->geoms[p.hit.geomID[k]];
-    } else {
-      proto_info.mesh = inst.proto->mesh.get();
-      proto_info.instance = inst.instance;
-      g = &proto_info;
-    }
-    h.instance = g->instance;
-    if (g->mesh == nullptr) {
-      h.cls = g->cls;
-      h.material = g->material;
+    const Eigen::Vector3f n = inst.rotated ? Eigen::Vector3f(inst.normal * ng) : ng;
+    h.normal = n * (1.0f / n.norm());  // one division, not three
+    const GeomInfo& g = inst.tile ? inst.tile->geoms[p.hit.geomID[k]] : inst.object;
+    h.instance = g.instance;
+    if (g.mesh == nullptr) {
+      h.cls = g.cls;
+      h.material = g.material;
       return;
     }
-    const auto& parts = g->mesh->parts;
-    auto it = std::upper_bound(
-        parts.begin(), parts.end(), prim,
-        [](unsigned t, const scene::MeshPart& part) { return t < part.first_triangle; });
+    const auto& parts = g.mesh->parts;
+    const unsigned prim = p.hit.primID[k];
+    auto it = parts.size() == 1 ? parts.end()
+                                : std::upper_bound(parts.begin(), parts.end(), prim,
+                                                   [](unsigned t, const scene::MeshPart& part) {
+                                                     return t < part.first_triangle;
+                                                   });
     const scene::MeshPart& part = *std::prev(it);
     h.cls = part.cls;
     h.material = part.material;
@@ -552,17 +549,22 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
     rtcAttachGeometry(s->top.scene, g);
     rtcReleaseGeometry(g);
     info.normal = linear.inverse().transpose();
+    info.rotated = !linear.isIdentity(0.0f);
+    if (info.proto)
+      info.object = {info.proto->mesh.get(), 0, 0, info.instance};
     s->instances.push_back(std::move(info));
   };
   for (const auto& t : tiles) {
     auto bvh = w.tile(t);
-    attach(bvh->handle.scene, Eigen::Matrix3f::Identity(), t->origin, {bvh, nullptr, 0, {}});
+    attach(bvh->handle.scene, Eigen::Matrix3f::Identity(), t->origin,
+           {bvh, nullptr, 0, {}, false, {}});
     if (!w.options.instance_objects)
       continue;
     for (const scene::Object& o : t->objects)
       if (sharedMesh(o)) {
         auto proto = w.proto(o.mesh);
-        attach(proto->handle.scene, o.linear, o.position, {nullptr, proto, o.instance, {}});
+        attach(proto->handle.scene, o.linear, o.position,
+               {nullptr, proto, o.instance, {}, false, {}});
       }
   }
   commit(s->top.scene);

@@ -1,6 +1,8 @@
 #pragma once
 // Backscatter intensity by the Lambertian-Beckmann model (sensors-reference.md 3.2, after Tian
 // et al. 2021 as the TrainSim paper uses it).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "trainsim/scene/semantics.hpp"
@@ -13,17 +15,52 @@ enum class IntensityScale : std::uint8_t {
   kVlp16,  ///< Velodyne calibrated reflectivity: 0..100 diffuse, 101..255 retro-reflectors
 };
 
-/// The material's backscatter at incidence angle θ (cos θ given, 0 < cos θ ≤ 1):
+/// A material's backscatter as a function of the incidence angle θ (cos θ given, 0 < cos θ ≤ 1):
 ///   ρ · (k_d cos θ + k_s exp(−tan²θ / m²) / (m² cos⁴θ)) / (k_d + k_s / m²),
 /// normalised so that a surface seen head-on returns its reflectance ρ; 0 past the material's
-/// maximum incidence angle (no return).
-double reflectivity(const scene::Material& material, double cos_theta);
+/// maximum incidence angle (no return). The constants are worked out once per material (the LiDAR
+/// evaluates it for every return), and the angle test is a select rather than a branch: a
+/// column's misses (cos θ = 0) and grazing hits come out as 0 without a misprediction each.
+class Backscatter {
+ public:
+  Backscatter() = default;
+  explicit Backscatter(const scene::Material& m)
+      : cos_max_(m.cos_max_incidence),
+        inv_m2_(1.0 / (m.roughness * m.roughness)),
+        diffuse_(m.reflectance * m.k_d / (m.k_d + m.k_s * inv_m2_)),
+        specular_(m.reflectance * m.k_s * inv_m2_ / (m.k_d + m.k_s * inv_m2_)) {}
+  double operator()(double cos_theta) const {
+    const double c2 = cos_theta * cos_theta;
+    const double specular =
+        specular_ > 0.0 ? specular_ * std::exp(-(1.0 - c2) * inv_m2_ / c2) / (c2 * c2) : 0.0;
+    const double r = diffuse_ * cos_theta + specular;
+    return cos_theta > 0.0 && cos_theta >= cos_max_ ? r : 0.0;
+  }
+
+ private:
+  double cos_max_ = 1.0, inv_m2_ = 1.0, diffuse_ = 0.0, specular_ = 0.0;
+};
+
+/// The material's backscatter at incidence angle θ (see Backscatter).
+inline double reflectivity(const scene::Material& m, double cos_theta) {
+  return Backscatter(m)(cos_theta);
+}
 
 /// The intensity written for a return of reflectivity r at range R: with `range_falloff`,
 /// r · (10 m / R)² (raw intensity, 1/R² of an extended target, equal to r at 10 m), otherwise r
 /// (calibrated reflectivity, as Velodyne reports it); then scaled: kUnit clamps to 0..1, kVlp16
 /// maps r ≤ 1 to 100 r and r > 1 to 101 + 154 (r − 1), at most 255.
-double scaledIntensity(double reflectivity, double range_m, bool range_falloff,
-                       IntensityScale scale);
+inline double scaledIntensity(double r, double range_m, bool range_falloff, IntensityScale scale) {
+  if (range_falloff)
+    r *= (10.0 / range_m) * (10.0 / range_m);
+  switch (scale) {
+    case IntensityScale::kUnit:
+      return std::clamp(r, 0.0, 1.0);
+    case IntensityScale::kVlp16:
+      return r <= 1.0 ? std::round(100.0 * r)
+                      : std::min(255.0, std::round(101.0 + 154.0 * (r - 1.0)));
+  }
+  return r;
+}
 
 }  // namespace trainsim::lidar

@@ -115,19 +115,29 @@ class Scanner {
   std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
 
  private:
+  /// Column c's rays from `pose`, relative to `origin`.
   void columnRays(int column, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
                   Ray* out) const;
-  Eigen::Isometry3d columnPose(const PoseAt& pose, int column,
-                               const Eigen::Isometry3d& frame_pose) const;
+  /// The sensor's poses at the firings of columns [begin, end).
+  void columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin, int end,
+                   std::vector<Eigen::Isometry3d>& out) const;
 
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
+  std::vector<Eigen::Vector3f> axes_;        // the same in float, for the rays
   std::vector<Eigen::Vector2d> footprint_;   // sub-ray offsets (rad) across and along the beam
   std::vector<int> ring_lasers_;             // the laser of each ring
+  std::vector<Backscatter> backscatter_;     // by material id
 
   struct Scratch;
+  struct Block;
   std::unique_ptr<Scratch> makeScratch() const;
+  /// Casts columns [begin, end) and works out their returns into the frame's slots.
+  void castColumns(const RayScene& scene, const PoseAt& pose, const Eigen::Isometry3d& frame_pose,
+                   const Eigen::Isometry3d& world_to_frame, const RandomStream& random,
+                   std::uint64_t frame, int begin, int end, Block& block, Scratch& w) const;
   mutable ObjectPool<Scratch> scratch_;  // one per frame scanned at once
+  mutable ObjectPool<Block> blocks_;     // one per task running at once
 };
 
 }  // namespace trainsim::lidar
