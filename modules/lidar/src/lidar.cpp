@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstring>
 #include <numbers>
 
 #include "trainsim/core/error.hpp"
@@ -164,9 +163,9 @@ struct Scanner::Scratch {
   std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
 };
 
-// One task's working memory: its columns' rays, their world directions and hits (a few tens of
-// kB, still in the core's cache when the returns are worked out from them), reused from task to
-// task rather than held for the whole frame.
+// One task's working memory: its columns' poses, rays and hits (a few tens of kB, still in the
+// core's cache when the returns are worked out from them), reused from task to task rather than
+// held for the whole frame.
 struct Scanner::Block {
   std::vector<Ray> rays;
   std::vector<RayHit> hits;
@@ -294,9 +293,9 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     blocks_.give(std::move(block));
   });
 
-  // KITTI order: ring by ring, each by the azimuth of its written coordinates (ties, which only
-  // coincident points make, by column). Each ring sorts (key, slot) pairs, not the points, and
-  // not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
+  // KITTI order: ring by ring, each by the azimuth of its written coordinates (points whose
+  // float keys are equal, by slot: by column). Each ring sorts (key, slot) words, not the points,
+  // and not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
   const std::size_t rings = ring_lasers_.size();
   std::vector<std::size_t> first(rings + 1, 0);
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
@@ -316,7 +315,7 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     for (std::size_t k = 0; k < order.size(); ++k) {
       if (k + kAhead < order.size())
         __builtin_prefetch(from + (order[k + kAhead] & 0xFFFFFFFFu));
-      std::memcpy(static_cast<void*>(to++), from + (order[k] & 0xFFFFFFFFu), sizeof(LidarPoint));
+      *to++ = from[order[k] & 0xFFFFFFFFu];
     }
   });
   scratch_.give(std::move(scratch));
