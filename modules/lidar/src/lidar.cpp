@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <numbers>
@@ -30,7 +31,9 @@ constexpr int kPoseStep = 16;
 float pseudoAzimuth(float xf, float yf) {
   const double x = xf, y = yf;
   const double d = std::abs(x) + std::abs(y);
-  const double r = y / (d > 0.0 ? d : 1.0);  // (0, 0) gives 0
+  if (d == 0.0)
+    return 0.0f;
+  const double r = y / d;
   const double a = x >= 0.0 ? r : 2.0 - r;
   return static_cast<float>(a < 0.0 ? a + 4.0 : a) + 0.0f;
 }
@@ -364,16 +367,19 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
     const std::uint64_t key = (frame << kColumnBits) | static_cast<std::uint64_t>(c);
     if (noisy)
       random.normals(key, b.noise.data(), L * R);
-    if (dropout > 0.0)
-      for (std::size_t l = 0; l < L; ++l)
-        b.kept[l] = dropout_random.uniform4(key, l / 4)[l % 4] > dropout;
+    if (dropout > 0.0)  // one draw of four uniforms serves four lasers
+      for (std::size_t l = 0; l < L; l += 4) {
+        const std::array<double, 4> u = dropout_random.uniform4(key, l / 4);
+        for (std::size_t k = 0; k < 4 && l + k < L; ++k)
+          b.kept[l + k] = u[k] > dropout;
+      }
     // From the sensor at this column's firing to the sensor at the frame time.
     const Eigen::Isometry3d deskew = world_to_frame * b.poses[i];
     const double column_time = c * column_period;
     const Eigen::Vector3d* axes = &directions_[static_cast<std::size_t>(c) * L];
     // Writes slot `slot` of laser l: the echo at `truth` m with reflectivity `rho`, if `ok` and
-    // its noisy range is within limits; otherwise marks the slot empty. Branch-free: the point's
-    // fields are written either way (an empty slot's are never read).
+    // its noisy range is within limits; otherwise marks the slot empty. The point's fields are
+    // written either way (an empty slot's are never read).
     const auto put = [&](std::size_t l, std::size_t slot, std::size_t j, double truth, double rho,
                          double coverage, const RayHit& label, bool ok) {
       const double range_m = truth + (sigma0 + sigma1 * truth) * noise[j * L + l];
