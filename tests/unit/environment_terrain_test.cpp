@@ -142,6 +142,104 @@ TEST(Terrain, ValleysUnderBridgesAndGroundOverTunnels) {
   EXPECT_GT(tunnels, 100);
 }
 
+// The triangles (world, double) of class `cls` in the scene tiles within `reach` of `at`.
+std::vector<std::array<Eigen::Vector3d, 3>> trianglesNear(const World& w, const Eigen::Vector3d& at,
+                                                          double reach, scene::ClassId cls) {
+  std::vector<std::array<Eigen::Vector3d, 3>> out;
+  const scene::TileGrid grid = w.env().grid();
+  const scene::TileIndex lo = grid.tileAt(at.x() - reach, at.y() - reach);
+  const scene::TileIndex hi = grid.tileAt(at.x() + reach, at.y() + reach);
+  for (std::int32_t i = lo.i; i <= hi.i; ++i)
+    for (std::int32_t j = lo.j; j <= hi.j; ++j) {
+      if (!w.env().terrain().sceneTiles().contains({i, j}))
+        continue;
+      const std::shared_ptr<const scene::Tile> tile = w.env().tile({i, j});
+      for (const scene::Object& o : tile->objects)
+        for (std::size_t part = 0; part < o.mesh->parts.size(); ++part) {
+          if (o.mesh->parts[part].cls != cls)
+            continue;
+          const std::size_t end = part + 1 < o.mesh->parts.size()
+                                      ? o.mesh->parts[part + 1].first_triangle
+                                      : o.mesh->triangles.size();
+          for (std::size_t k = o.mesh->parts[part].first_triangle; k < end; ++k) {
+            const auto& t = o.mesh->triangles[k];
+            out.push_back({o.worldVertex(t[0]), o.worldVertex(t[1]), o.worldVertex(t[2])});
+          }
+        }
+    }
+  return out;
+}
+
+// The heights at which the triangles' surfaces pass over plan point p.
+std::vector<double> heightsOver(const std::vector<std::array<Eigen::Vector3d, 3>>& triangles,
+                                const Eigen::Vector2d& p) {
+  std::vector<double> out;
+  for (const auto& v : triangles) {
+    const Eigen::Vector2d a = v[0].head<2>(), b = v[1].head<2>(), c = v[2].head<2>();
+    const double area = (b - a).x() * (c - a).y() - (c - a).x() * (b - a).y();
+    if (area == 0.0)
+      continue;  // a vertical face
+    const double u = ((c - b).x() * (p - b).y() - (c - b).y() * (p - b).x()) / area;
+    const double t = ((a - c).x() * (p - c).y() - (a - c).y() * (p - c).x()) / area;
+    if (u >= 0.0 && t >= 0.0 && u + t <= 1.0)
+      out.push_back(u * v[0].z() + t * v[1].z() + (1.0 - u - t) * v[2].z());
+  }
+  return out;
+}
+
+TEST(Terrain, TheTunnelPortalsAreOpenAndTheTubesClosed) {
+  // The train's clearance through each portal (10 m in front to 30 m inside, 1.6 m either side
+  // of the track, 0.3 to 5 m above the rails) holds no ground: the scene's terrain triangles
+  // are searched, point by point of that space's plan, for a surface inside it. (Before the
+  // bore was cut out, the cutting's 1:1 slope ran across the first metres of every tunnel.)
+  // Inside, the tube has a floor from wall to wall: no line of sight to the sky below it.
+  const World& w = defaultWorld();
+  const terrain::TerrainParams& P = w.env().params().terrain;
+  int portals = 0, samples = 0, floor_samples = 0;
+  for (const terrain::Structure& s : w.railway().structures()) {
+    if (s.type != track::BlockType::kTunnel)
+      continue;
+    for (const double portal : {s.chainage_begin_m, s.chainage_end_m}) {
+      ++portals;
+      const double inward = portal == s.chainage_begin_m ? 1.0 : -1.0;
+      const Eigen::Vector3d at = w.railway().frame(0, portal).position;
+      const auto ground = trianglesNear(w, at, 60.0, scene::cls::kTerrain);
+      const auto tube = trianglesNear(w, at, 60.0, scene::cls::kTunnel);
+      ASSERT_FALSE(ground.empty());
+      ASSERT_FALSE(tube.empty());
+      for (double along = -10.0; along <= 30.0; along += 0.5)
+        for (double lateral = -1.6; lateral <= 1.6; lateral += 0.4) {
+          const track::TrackFrame f = w.railway().frame(0, portal + inward * along);
+          const Eigen::Vector2d p = f.position.head<2>() + lateral * f.left.head<2>().normalized();
+          ++samples;
+          for (const double z : heightsOver(ground, p))
+            EXPECT_FALSE(z > f.position.z() + 0.3 && z < f.position.z() + 5.0)
+                << "ground " << z - f.position.z() << " m above the rails " << along
+                << " m inside the portal at " << portal << ", " << lateral << " m across";
+        }
+      // Wherever the tube's roof is overhead, its floor is underfoot.
+      for (const double along : {5.0, 20.0})
+        for (double lateral = -11.9; lateral <= 12.0; lateral += 0.25) {  // not on a wall
+          const track::TrackFrame f = w.railway().frame(0, portal + inward * along);
+          const Eigen::Vector2d p = f.position.head<2>() + lateral * f.left.head<2>().normalized();
+          bool roof = false, floor = false;
+          for (const double z : heightsOver(tube, p)) {
+            roof = roof || z > f.position.z() + 1.0;
+            floor = floor || std::abs(z - (f.position.z() - P.formation_depth_m)) < 0.05;
+          }
+          if (!roof)
+            continue;
+          ++floor_samples;
+          EXPECT_TRUE(floor) << "no floor " << along << " m inside the portal at " << portal << ", "
+                             << lateral << " m across";
+        }
+    }
+  }
+  EXPECT_EQ(portals, 4);  // the default route's two tunnels
+  EXPECT_GT(samples, 2500);
+  EXPECT_GT(floor_samples, 150);
+}
+
 TEST(Terrain, ATileIsTheSameAloneInAnyOrderOnAnyThreadAndAgreesWithItsNeighbours) {
   const World& w = defaultWorld();
   const auto& tiles = w.env().terrain().tiles();
@@ -232,11 +330,13 @@ TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
   // Brute force: every grid point is located in the simplified mesh by scanning all its
   // triangles, and its height compared with the triangle's plane.
   const World w = makeWorld({{"terrain", {{"tile_vertices", 65}}}});
-  int tiles = 0;
+  // The first tiles, and tiles at the tunnels' portals (with bore vertices).
+  int tiles = 0, portal_tiles = 0;
   for (const auto& index : w.env().terrain().tiles()) {
-    if (++tiles > 6)
-      break;
     const terrain::TerrainTile t = w.env().terrain().tile(index);
+    const bool portal = std::find(t.bore.begin(), t.bore.end(), 1) != t.bore.end();
+    if (portal ? ++portal_tiles > 4 : ++tiles > 4)
+      continue;
     const Eigen::Vector3d origin(t.origin.x(), t.origin.y(), t.z0);
     for (const double tol : {0.02, 0.25}) {
       const terrain::SimplifiedMesh s =
@@ -268,11 +368,20 @@ TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
             worst = std::max(worst, std::abs(t.height(c, r) - t.z0 - plane));
             break;
           }
-          ASSERT_TRUE(found) << "grid point " << c << ", " << r << " outside the mesh";
+          // A tunnel's bore is cut out: its points, and only they, may lie outside the mesh.
+          bool by_bore = false;
+          for (int rr = std::max(r - 1, 0); rr <= std::min(r + 1, t.n - 1); ++rr)
+            for (int cc = std::max(c - 1, 0); cc <= std::min(c + 1, t.n - 1); ++cc)
+              by_bore = by_bore || t.inBore(cc, rr);
+          ASSERT_TRUE(found || by_bore) << "grid point " << c << ", " << r << " outside the mesh";
+          if (t.inBore(c, r)) {
+            EXPECT_FALSE(found) << "bore point " << c << ", " << r << " under the mesh";
+          }
         }
       EXPECT_LE(worst, tol + 1e-4);  // float vertices
     }
   }
+  EXPECT_GE(portal_tiles, 4);
 }
 
 }  // namespace

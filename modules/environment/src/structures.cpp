@@ -74,6 +74,7 @@ void addStructures(TileContext& ctx) {
       const double spring = T.tunnel_crown_m - r;
       auto lining = horseshoe(centre, r, spring, -formation, 16);
       std::reverse(lining.begin(), lining.end());  // clockwise: normals face the inside
+      lining.push_back(lining.front());            // and the invert, the floor under the track bed
       for (const auto& run : runs) {
         // extrude() orients closed profiles outward; the lining is open, so the order decides.
         extrude(*mesh, ctx, run, lining, false);
@@ -84,7 +85,11 @@ void addStructures(TileContext& ctx) {
         if (!ctx.owns(f.position))
           continue;
         const auto inner = horseshoe(centre, r, spring, -formation, 16);
-        const auto outer = horseshoe(centre, r + 3.0, spring, -formation, 16);
+        // The terrain is cut away in the cells around the bore (within tunnel_half_width_m of a
+        // track, and a cell more): the ring is wide enough to close that cut at the portal, on
+        // the far side of a tube offset to the middle of several tracks too, and reaches 3 m
+        // into the ground.
+        const auto outer = horseshoe(centre, r + 4.5, spring, -formation - 3.0, 16);
         const double facing = x == s.chainage_begin_m ? -1.0 : 1.0;  // out of the tunnel
         const auto base = static_cast<std::uint32_t>(mesh->vertices.size());
         for (std::size_t i = 0; i < inner.size(); ++i) {
@@ -99,6 +104,26 @@ void addStructures(TileContext& ctx) {
           else
             mesh->addQuad(a, d, c, b);
         }
+        // And a sill under the opening, 3 m into the ground, for the same cut in front of it.
+        const auto sill = static_cast<std::uint32_t>(mesh->vertices.size());
+        for (const double u : {centre - r, centre + r})
+          for (const double v : {-formation, -formation - 3.0})
+            mesh->addVertex(ctx.local(f.position + u * f.left + v * f.up));
+        if (facing > 0)
+          mesh->addQuad(sill, sill + 1, sill + 3, sill + 2);
+        else
+          mesh->addQuad(sill, sill + 2, sill + 3, sill + 1);
+        // And an apron over the cut cells in front of the portal, 2 cm above the formation (no
+        // coincident faces with the ground), seen from outside and through the opening.
+        const auto apron = static_cast<std::uint32_t>(mesh->vertices.size());
+        for (const double u : {centre - r - 4.5, centre + r + 4.5})
+          for (const double w : {0.0, 1.5})
+            mesh->addVertex(ctx.local(f.position + u * f.left + facing * w * f.tangent +
+                                      (0.02 - formation) * f.up));
+        if (facing > 0)  // up-facing: counter-clockwise from above
+          mesh->addQuad(apron, apron + 1, apron + 3, apron + 2);
+        else
+          mesh->addQuad(apron, apron + 2, apron + 3, apron + 1);
       }
     } else if (s.type == track::BlockType::kBridge) {
       // Deck under the ballast of all tracks, parapets on both edges, piers down to the valley.

@@ -90,6 +90,14 @@ SimplifiedMesh simplifiedTerrainMesh(const TerrainTile& tile, const Eigen::Vecto
     insert(k * n);
     insert(k * n + n - 1);
   }
+  // Every bore vertex and its neighbours: the faces left out are then exactly the cells that
+  // touch the bore, as in the full mesh, and no kept face spans the opening.
+  for (std::uint32_t r = 0; r < n; ++r)
+    for (std::uint32_t c = 0; c < n; ++c)
+      if (tile.bore[r * n + c])
+        for (std::uint32_t rr = r > 0 ? r - 1 : 0; rr <= std::min(r + 1, n - 1); ++rr)
+          for (std::uint32_t cc = c > 0 ? c - 1 : 0; cc <= std::min(c + 1, n - 1); ++cc)
+            insert(rr * n + cc);
   // Refine in passes: each triangle still off by more than the tolerance gets its worst grid
   // point; triangles already within it are remembered by their corners and not scanned again.
   struct Key {
@@ -147,6 +155,9 @@ SimplifiedMesh simplifiedTerrainMesh(const TerrainTile& tile, const Eigen::Vecto
   }
   std::vector<std::array<std::uint32_t, 3>> faces;
   for (auto f = tin.finite_faces_begin(); f != tin.finite_faces_end(); ++f) {
+    if (tile.bore[f->vertex(0)->info()] || tile.bore[f->vertex(1)->info()] ||
+        tile.bore[f->vertex(2)->info()])
+      continue;
     std::array<std::uint32_t, 3> t = {index[f->vertex(0)->info()], index[f->vertex(1)->info()],
                                       index[f->vertex(2)->info()]};
     std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());  // keeps the winding

@@ -80,7 +80,7 @@ struct Terrain::Field {
   double spacing = 1.0;
   int nx = 1, ny = 1;
   std::vector<double> d_open, z_open, d_tunnel, z_tunnel, far, noise, valley, height;
-  std::vector<std::uint8_t> station;
+  std::vector<std::uint8_t> station, bore;
 
   double x(int c) const { return global ? static_cast<double>(gx + c) * spacing : x0; }
   double y(int r) const { return global ? static_cast<double>(gy + r) * spacing : y0; }
@@ -262,6 +262,7 @@ void Terrain::fill(Field& f) const {
 
   // 5. The paper's blend, then the ground over tunnels (cut at the portals) and the valleys.
   f.height.assign(count, 0.0);
+  f.bore.assign(count, 0);
   for (std::size_t i = 0; i < count; ++i) {
     const double d_near = f.station[i] ? P.d_near_station_m : P.d_near_m;
     const double formation = f.z_open[i] - P.formation_depth_m;
@@ -282,6 +283,10 @@ void Terrain::fill(Field& f) const {
       h = std::max(h, std::min(hill, cut));
     }
     f.height[i] = h - f.valley[i];
+    // In the bore: nearer a tunnel's track than any open track (so past the portal, not in
+    // front of it), within the tube's half width, and below its crown.
+    f.bore[i] = f.d_tunnel[i] < P.tunnel_half_width_m && f.d_tunnel[i] < f.d_open[i] &&
+                f.height[i] < f.z_tunnel[i] + P.tunnel_crown_m;
   }
 }
 
@@ -305,9 +310,12 @@ TerrainTile cropTile(const TerrainTile& tile, scene::TileIndex index, int split)
   t.spacing_m = tile.spacing_m;
   t.origin = tile.origin + tile.spacing_m * Eigen::Vector2d(c0, r0);
   t.heights.reserve(static_cast<std::size_t>(n) * n);
+  t.bore.reserve(static_cast<std::size_t>(n) * n);
   for (int r = 0; r < n; ++r) {
-    const auto row = tile.heights.begin() + static_cast<std::ptrdiff_t>(r0 + r) * tile.n + c0;
-    t.heights.insert(t.heights.end(), row, row + n);
+    const auto first = static_cast<std::ptrdiff_t>(r0 + r) * tile.n + c0;
+    t.heights.insert(t.heights.end(), tile.heights.begin() + first,
+                     tile.heights.begin() + first + n);
+    t.bore.insert(t.bore.end(), tile.bore.begin() + first, tile.bore.begin() + first + n);
   }
   t.z0 = std::floor(*std::min_element(t.heights.begin(), t.heights.end()));
   return t;
@@ -327,6 +335,7 @@ TerrainTile Terrain::square(scene::TileIndex index, int n) const {
   t.origin = {f.x(0), f.y(0)};
   t.z0 = std::floor(*std::min_element(f.height.begin(), f.height.end()));
   t.heights = std::move(f.height);
+  t.bore = std::move(f.bore);
   return t;
 }
 
@@ -359,14 +368,21 @@ scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
           static_cast<float>(base.z() + tile.heights[static_cast<std::size_t>(r) * n + c])));
   mesh.triangles.reserve(2 * static_cast<std::size_t>(n - 1) * (n - 1));
   mesh.beginPart(scene::cls::kTerrain, material);
+  bool whole = true;
   for (int r = 0; r + 1 < n; ++r)
     for (int c = 0; c + 1 < n; ++c) {
+      if (tile.inBore(c, r) || tile.inBore(c + 1, r) || tile.inBore(c, r + 1) ||
+          tile.inBore(c + 1, r + 1)) {
+        whole = false;
+        continue;
+      }
       const auto v = static_cast<std::uint32_t>(r * n + c);
       const auto un = static_cast<std::uint32_t>(n);
       // Split along (c+1, r)–(c, r+1), as Embree splits a grid's cells (Mesh::grid_columns).
       mesh.addQuad(v + 1, v + un + 1, v + un, v);
     }
-  mesh.grid_columns = static_cast<std::uint32_t>(n);
+  // An Embree grid has no holes: a tile at a portal stays triangles.
+  mesh.grid_columns = whole ? static_cast<std::uint32_t>(n) : 0u;
   return mesh;
 }
 

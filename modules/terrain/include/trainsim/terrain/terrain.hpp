@@ -65,8 +65,14 @@ struct TerrainTile {
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();
   double z0 = 0.0;  ///< a whole metre at or below the lowest height (the tile origin's z)
   std::vector<double> heights;
+  /// 1 where the vertex lies in a tunnel's bore, below its crown: the cutting in front of a
+  /// portal rises over the tunnel's first metres, and a height field cannot hold the opening a
+  /// portal is, so the meshes leave out every cell with a corner here (the tube and the portal
+  /// ring close the gap). Same size as `heights`.
+  std::vector<std::uint8_t> bore;
 
   double height(int c, int r) const { return heights[static_cast<std::size_t>(r) * n + c]; }
+  bool inBore(int c, int r) const { return bore[static_cast<std::size_t>(r) * n + c] != 0; }
   Eigen::Vector3d vertex(int c, int r) const {
     return {origin.x() + c * spacing_m, origin.y() + r * spacing_m, height(c, r)};
   }
@@ -127,14 +133,17 @@ class Terrain {
   std::set<scene::TileIndex> tiles_, scene_tiles_;
 };
 
-/// The tile as a triangle mesh (two triangles per cell), vertices relative to `origin`; a
-/// height field (scene::Mesh::grid_columns).
+/// The tile as a triangle mesh (two triangles per cell, none for a cell touching the bore),
+/// vertices relative to `origin`; a height field (scene::Mesh::grid_columns) when no cell is
+/// left out.
 scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
                         scene::MaterialId material);
 
 /// The tile as a triangulated irregular network within `tolerance_m` of every grid height
 /// (vertical error, exact by construction): greedy insertion of the worst grid point into a
-/// Delaunay triangulation in plan (CGAL), every border vertex kept so tiles still meet exactly.
+/// Delaunay triangulation in plan (CGAL), every border vertex kept so tiles still meet exactly,
+/// and every bore vertex with its neighbours, so the opening is cut out along the same cells as
+/// terrainMesh() cuts it.
 /// Counter-clockwise from above; the same bytes for the same tile.
 struct SimplifiedMesh {
   scene::Mesh mesh;
