@@ -12,11 +12,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 #include <vector>
 
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/terrain/terrain.hpp"
+
+#include "skirt.hpp"
 
 namespace trainsim::terrain {
 namespace {
@@ -167,6 +170,23 @@ SimplifiedMesh simplifiedTerrainMesh(const TerrainTile& tile, const Eigen::Vecto
   mesh.beginPart(scene::cls::kTerrain, material);
   for (const auto& t : faces)
     mesh.addTriangle(t[0], t[1], t[2]);
+  // Skirts under the edges a single kept face has inside the tile: the cut's border.
+  std::vector<std::uint32_t> grid_of(mesh.vertices.size());
+  for (const auto& [g, m] : index)
+    grid_of[m] = g;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const auto& t : faces)
+    for (int k = 0; k < 3; ++k)
+      ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+  const auto on_border = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t ga = grid_of[a], gb = grid_of[b];
+    return (ga % n == gb % n && (ga % n == 0 || ga % n == n - 1)) ||
+           (ga / n == gb / n && (ga / n == 0 || ga / n == n - 1));
+  };
+  for (const auto& [e, count] : edges)
+    if (count == 1 && !on_border(e.first, e.second))
+      detail::addSkirt(mesh, e.first, e.second, tile.skirt[grid_of[e.first]],
+                       tile.skirt[grid_of[e.second]]);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "trainsim/terrain/terrain.hpp"
 
 #include "plan_distance.hpp"
+#include "skirt.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -81,6 +82,7 @@ struct Terrain::Field {
   int nx = 1, ny = 1;
   std::vector<double> d_open, z_open, d_tunnel, z_tunnel, far, noise, valley, height;
   std::vector<std::uint8_t> station, bore;
+  std::vector<float> skirt;
 
   double x(int c) const { return global ? static_cast<double>(gx + c) * spacing : x0; }
   double y(int r) const { return global ? static_cast<double>(gy + r) * spacing : y0; }
@@ -263,6 +265,7 @@ void Terrain::fill(Field& f) const {
   // 5. The paper's blend, then the ground over tunnels (cut at the portals) and the valleys.
   f.height.assign(count, 0.0);
   f.bore.assign(count, 0);
+  f.skirt.assign(count, 0.0f);
   for (std::size_t i = 0; i < count; ++i) {
     const double d_near = f.station[i] ? P.d_near_station_m : P.d_near_m;
     const double formation = f.z_open[i] - P.formation_depth_m;
@@ -287,6 +290,12 @@ void Terrain::fill(Field& f) const {
     // front of it), within the tube's half width, and below its crown.
     f.bore[i] = f.d_tunnel[i] < P.tunnel_half_width_m && f.d_tunnel[i] < f.d_open[i] &&
                 f.height[i] < f.z_tunnel[i] + P.tunnel_crown_m;
+    // In front of the portal (nearer the open track), beside the cut: a skirt down to a metre
+    // under the formation. (Never inside: a skirt from the ground over the tube would hang
+    // across the bore.)
+    if (f.d_open[i] <= f.d_tunnel[i] && f.d_tunnel[i] < P.tunnel_half_width_m + 2.0 * f.spacing)
+      f.skirt[i] = static_cast<float>(
+          std::max(0.0, f.height[i] - (f.z_open[i] - P.formation_depth_m) + 1.0));
   }
 }
 
@@ -311,11 +320,13 @@ TerrainTile cropTile(const TerrainTile& tile, scene::TileIndex index, int split)
   t.origin = tile.origin + tile.spacing_m * Eigen::Vector2d(c0, r0);
   t.heights.reserve(static_cast<std::size_t>(n) * n);
   t.bore.reserve(static_cast<std::size_t>(n) * n);
+  t.skirt.reserve(static_cast<std::size_t>(n) * n);
   for (int r = 0; r < n; ++r) {
     const auto first = static_cast<std::ptrdiff_t>(r0 + r) * tile.n + c0;
     t.heights.insert(t.heights.end(), tile.heights.begin() + first,
                      tile.heights.begin() + first + n);
     t.bore.insert(t.bore.end(), tile.bore.begin() + first, tile.bore.begin() + first + n);
+    t.skirt.insert(t.skirt.end(), tile.skirt.begin() + first, tile.skirt.begin() + first + n);
   }
   t.z0 = std::floor(*std::min_element(t.heights.begin(), t.heights.end()));
   return t;
@@ -336,6 +347,7 @@ TerrainTile Terrain::square(scene::TileIndex index, int n) const {
   t.z0 = std::floor(*std::min_element(f.height.begin(), f.height.end()));
   t.heights = std::move(f.height);
   t.bore = std::move(f.bore);
+  t.skirt = std::move(f.skirt);
   return t;
 }
 
@@ -381,8 +393,34 @@ scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
       // Split along (c+1, r)–(c, r+1), as Embree splits a grid's cells (Mesh::grid_columns).
       mesh.addQuad(v + 1, v + un + 1, v + un, v);
     }
-  // An Embree grid has no holes: a tile at a portal stays triangles.
+  // An Embree grid has no holes: a tile at a portal stays triangles, with skirts where a kept
+  // cell borders a cut one.
   mesh.grid_columns = whole ? static_cast<std::uint32_t>(n) : 0u;
+  if (!whole) {
+    const auto cut = [&](int c, int r) {
+      return c >= 0 && r >= 0 && c + 1 < n && r + 1 < n &&
+             (tile.inBore(c, r) || tile.inBore(c + 1, r) || tile.inBore(c, r + 1) ||
+              tile.inBore(c + 1, r + 1));
+    };
+    const auto edge = [&](int c0, int r0, int c1, int r1) {
+      detail::addSkirt(mesh, static_cast<std::uint32_t>(r0 * n + c0),
+                       static_cast<std::uint32_t>(r1 * n + c1), tile.skirtAt(c0, r0),
+                       tile.skirtAt(c1, r1));
+    };
+    for (int r = 0; r + 1 < n; ++r)
+      for (int c = 0; c + 1 < n; ++c) {
+        if (cut(c, r))
+          continue;
+        if (cut(c, r - 1))
+          edge(c, r, c + 1, r);
+        if (cut(c, r + 1))
+          edge(c, r + 1, c + 1, r + 1);
+        if (cut(c - 1, r))
+          edge(c, r, c, r + 1);
+        if (cut(c + 1, r))
+          edge(c + 1, r, c + 1, r + 1);
+      }
+  }
   return mesh;
 }
 

@@ -70,9 +70,15 @@ struct TerrainTile {
   /// portal is, so the meshes leave out every cell with a corner here (the tube and the portal
   /// ring close the gap). Same size as `heights`.
   std::vector<std::uint8_t> bore;
+  /// How far a skirt hangs under each vertex where the mesh's edge borders the cut, in front of
+  /// a portal (0 elsewhere): down to a metre under the formation, so that no line of sight
+  /// through the opening passes under the height field beside the portal. Same size as
+  /// `heights`.
+  std::vector<float> skirt;
 
   double height(int c, int r) const { return heights[static_cast<std::size_t>(r) * n + c]; }
   bool inBore(int c, int r) const { return bore[static_cast<std::size_t>(r) * n + c] != 0; }
+  float skirtAt(int c, int r) const { return skirt[static_cast<std::size_t>(r) * n + c]; }
   Eigen::Vector3d vertex(int c, int r) const {
     return {origin.x() + c * spacing_m, origin.y() + r * spacing_m, height(c, r)};
   }
