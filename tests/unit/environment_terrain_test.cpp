@@ -155,13 +155,11 @@ std::vector<std::array<Eigen::Vector3d, 3>> trianglesNear(const World& w, const 
         continue;
       const std::shared_ptr<const scene::Tile> tile = w.env().tile({i, j});
       for (const scene::Object& o : tile->objects)
-        for (std::size_t part = 0; part < o.mesh->parts.size(); ++part) {
-          if (o.mesh->parts[part].cls != cls)
+        for (const scene::MeshPart& part : o.mesh->parts) {
+          if (part.cls != cls)
             continue;
-          const std::size_t end = part + 1 < o.mesh->parts.size()
-                                      ? o.mesh->parts[part + 1].first_triangle
-                                      : o.mesh->triangles.size();
-          for (std::size_t k = o.mesh->parts[part].first_triangle; k < end; ++k) {
+          for (std::uint32_t k = part.first_triangle; k < part.first_triangle + part.triangle_count;
+               ++k) {
             const auto& t = o.mesh->triangles[k];
             out.push_back({o.worldVertex(t[0]), o.worldVertex(t[1]), o.worldVertex(t[2])});
           }

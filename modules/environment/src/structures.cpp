@@ -91,28 +91,27 @@ void addStructures(TileContext& ctx) {
         // into the ground.
         const auto outer = horseshoe(centre, r + 4.5, spring, -formation - 3.0, 16);
         const double facing = x == s.chainage_begin_m ? -1.0 : 1.0;  // out of the tunnel
+        // Quad a b c d as laid out for the portal at the tunnel's end; flipped at its beginning.
+        const auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+          if (facing > 0)
+            mesh->addQuad(a, b, c, d);
+          else
+            mesh->addQuad(a, d, c, b);
+        };
         const auto base = static_cast<std::uint32_t>(mesh->vertices.size());
         for (std::size_t i = 0; i < inner.size(); ++i) {
           mesh->addVertex(ctx.local(f.position + inner[i].x() * f.left + inner[i].y() * f.up));
           mesh->addVertex(ctx.local(f.position + outer[i].x() * f.left + outer[i].y() * f.up));
         }
         for (std::uint32_t i = 0; i + 1 < inner.size(); ++i) {
-          const std::uint32_t a = base + 2 * i, b = base + 2 * i + 1, c = base + 2 * i + 3,
-                              d = base + 2 * i + 2;
-          if (facing > 0)
-            mesh->addQuad(a, b, c, d);
-          else
-            mesh->addQuad(a, d, c, b);
+          quad(base + 2 * i, base + 2 * i + 1, base + 2 * i + 3, base + 2 * i + 2);
         }
         // And a sill under the opening, 3 m into the ground, for the same cut in front of it.
         const auto sill = static_cast<std::uint32_t>(mesh->vertices.size());
         for (const double u : {centre - r, centre + r})
           for (const double v : {-formation, -formation - 3.0})
             mesh->addVertex(ctx.local(f.position + u * f.left + v * f.up));
-        if (facing > 0)
-          mesh->addQuad(sill, sill + 1, sill + 3, sill + 2);
-        else
-          mesh->addQuad(sill, sill + 2, sill + 3, sill + 1);
+        quad(sill, sill + 1, sill + 3, sill + 2);
         // And an apron over the cut cells in front of the portal, 2 cm above the formation (no
         // coincident faces with the ground), seen from outside and through the opening.
         const auto apron = static_cast<std::uint32_t>(mesh->vertices.size());
@@ -120,10 +119,7 @@ void addStructures(TileContext& ctx) {
           for (const double w : {0.0, 1.5})
             mesh->addVertex(ctx.local(f.position + u * f.left + facing * w * f.tangent +
                                       (0.02 - formation) * f.up));
-        if (facing > 0)  // up-facing: counter-clockwise from above
-          mesh->addQuad(apron, apron + 1, apron + 3, apron + 2);
-        else
-          mesh->addQuad(apron, apron + 2, apron + 3, apron + 1);
+        quad(apron, apron + 1, apron + 3, apron + 2);  // facing up
       }
     } else if (s.type == track::BlockType::kBridge) {
       // Deck under the ballast of all tracks, parapets on both edges, piers down to the valley.

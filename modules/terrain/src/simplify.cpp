@@ -170,10 +170,9 @@ SimplifiedMesh simplifiedTerrainMesh(const TerrainTile& tile, const Eigen::Vecto
   mesh.beginPart(scene::cls::kTerrain, material);
   for (const auto& t : faces)
     mesh.addTriangle(t[0], t[1], t[2]);
-  // Skirts under the edges a single kept face has inside the tile: the cut's border.
-  std::vector<std::uint32_t> grid_of(mesh.vertices.size());
-  for (const auto& [g, m] : index)
-    grid_of[m] = g;
+  // Skirts under the edges a single kept face has inside the tile: the cut's border. Mesh
+  // vertex m is grid point order[m].
+  const std::vector<std::uint32_t>& grid_of = order;
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
   for (const auto& t : faces)
     for (int k = 0; k < 3; ++k)

@@ -380,11 +380,16 @@ scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
           static_cast<float>(base.z() + tile.heights[static_cast<std::size_t>(r) * n + c])));
   mesh.triangles.reserve(2 * static_cast<std::size_t>(n - 1) * (n - 1));
   mesh.beginPart(scene::cls::kTerrain, material);
+  // Cell (c, r) is cut when a corner lies in a tunnel's bore (no cell outside the tile is).
+  const auto cut = [&](int c, int r) {
+    return c >= 0 && r >= 0 && c + 1 < n && r + 1 < n &&
+           (tile.inBore(c, r) || tile.inBore(c + 1, r) || tile.inBore(c, r + 1) ||
+            tile.inBore(c + 1, r + 1));
+  };
   bool whole = true;
   for (int r = 0; r + 1 < n; ++r)
     for (int c = 0; c + 1 < n; ++c) {
-      if (tile.inBore(c, r) || tile.inBore(c + 1, r) || tile.inBore(c, r + 1) ||
-          tile.inBore(c + 1, r + 1)) {
+      if (cut(c, r)) {
         whole = false;
         continue;
       }
@@ -397,11 +402,6 @@ scene::Mesh terrainMesh(const TerrainTile& tile, const Eigen::Vector3d& origin,
   // cell borders a cut one.
   mesh.grid_columns = whole ? static_cast<std::uint32_t>(n) : 0u;
   if (!whole) {
-    const auto cut = [&](int c, int r) {
-      return c >= 0 && r >= 0 && c + 1 < n && r + 1 < n &&
-             (tile.inBore(c, r) || tile.inBore(c + 1, r) || tile.inBore(c, r + 1) ||
-              tile.inBore(c + 1, r + 1));
-    };
     const auto edge = [&](int c0, int r0, int c1, int r1) {
       detail::addSkirt(mesh, static_cast<std::uint32_t>(r0 * n + c0),
                        static_cast<std::uint32_t>(r1 * n + c1), tile.skirtAt(c0, r0),
