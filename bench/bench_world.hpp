@@ -31,18 +31,25 @@ struct World {
   std::shared_ptr<const sim::EnvironmentStage> stage;
 };
 
-/// The default scenario with a generated route of `length_m` (0: its own 6 km) and, when
-/// `simplify_tolerance_m` is not negative, that terrain tolerance (0: the full height grid).
-inline World makeWorld(double length_m, double simplify_tolerance_m = -1.0) {
+/// The world of the default scenario with `changes` merged into it (JSON merge patch).
+inline World makeWorldWith(const scenario::Json& changes) {
   scenario::Json input = scenario::Json::parse(sim::defaultScenarioText());
-  if (length_m > 0.0)
-    input["route"]["generator"]["length_m"] = length_m;
-  if (simplify_tolerance_m >= 0.0)
-    input["terrain"]["simplify_tolerance_m"] = simplify_tolerance_m;
+  input.merge_patch(changes);
   World w{sim::resolveScenario(input, "", "bench"), nullptr, nullptr};
   w.plan = sim::makePlan(w.scenario);
   w.stage = sim::makeEnvironment(*w.plan, w.scenario);
   return w;
+}
+
+/// The default scenario with a generated route of `length_m` (0: its own 6 km) and, when
+/// `simplify_tolerance_m` is not negative, that terrain tolerance (0: the full height grid).
+inline World makeWorld(double length_m, double simplify_tolerance_m = -1.0) {
+  scenario::Json changes = scenario::Json::object();
+  if (length_m > 0.0)
+    changes["route"]["generator"]["length_m"] = length_m;
+  if (simplify_tolerance_m >= 0.0)
+    changes["terrain"]["simplify_tolerance_m"] = simplify_tolerance_m;
+  return makeWorldWith(changes);
 }
 
 }  // namespace trainsim::bench
