@@ -461,6 +461,61 @@ TEST(Scanner, NoReturnBeyondRangeOrPastTheMaximumIncidenceAngle) {
   }
 }
 
+TEST(Scanner, TheVehicleHidesWhatLiesBehindItAndReturnsNothingOfItself) {
+  // A sensor 0.2 m above a train's roof, on the roof's front edge (the default train.body), over
+  // flat ground, turned on its mount by 0° and 30°. The reference is written independently of
+  // the scanner's slab test: from above, a ray can only enter the box through its roof, so a
+  // beam is hidden exactly when it crosses the roof's plane within the roof's rectangle.
+  const Eigen::Vector3d O(3.0e5, -2.0e5, 0.0);
+  const double height = 4.0, roof = 3.8, front = 10.0, length = 24.0, half_width = 1.45;
+  const auto tile = makeTile(
+      O, {square({0, 0, -height}, {0, 0, 1}, 400.0, scene::cls::kTerrain, scene::mat::kGrass)});
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  for (const double yaw_deg : {0.0, 30.0}) {
+    // 2047 columns: none fires exactly along the roof's front edge (azimuth 90° or 270°), where
+    // the sensor's double and float directions could fall either side of it.
+    lidar::LidarParams p = uniformParams(64, 2047);
+    lidar::LidarParams::Vehicle v;
+    v.box = Eigen::AlignedBox3d(Eigen::Vector3d(front - length, -half_width, 0.0),
+                                Eigen::Vector3d(front, half_width, roof));
+    v.sensor_pose.linear() = Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()).matrix();
+    v.sensor_pose.translation() = Eigen::Vector3d(front, 0.0, height);
+    p.vehicle = v;
+    const lidar::Scanner scanner(p);
+    const auto hidden = [&](const Eigen::Vector3d& d_sensor) {
+      const Eigen::Vector3d d = v.sensor_pose.linear() * d_sensor;
+      if (d.z() >= 0.0)
+        return false;
+      const double t = (height - roof) / -d.z();
+      const double x = front + t * d.x(), y = t * d.y();
+      return x >= front - length && x <= front && std::abs(y) <= half_width;
+    };
+    std::size_t expected = 0, hidden_beams = 0;
+    for (int c = 0; c < 2047; ++c)
+      for (int l = 0; l < 64; ++l) {
+        const Eigen::Vector3d& d = scanner.direction(c, l);
+        const bool ground = d.z() < 0.0 && height / -d.z() <= p.pattern.range_max_m;
+        hidden_beams += ground && hidden(d);
+        expected += ground && !hidden(d);
+      }
+    const auto frame = scanner.scan(scene, fixedPose(O), RandomStream(1, "x"), 0);
+    EXPECT_EQ(frame.points.size(), expected) << yaw_deg;
+    EXPECT_GT(hidden_beams, 20'000u) << "the roof hides a good part of the downward beams";
+    for (const auto& pt : frame.points) {
+      const Eigen::Vector3d d = pt.xyz.cast<double>().normalized();
+      ASSERT_FALSE(hidden(d)) << pt.xyz.transpose();
+      EXPECT_NEAR(pt.range_m, height / -d.z(), 1e-3);
+    }
+  }
+  // A sensor inside the body is a configuration error.
+  lidar::LidarParams p = uniformParams(16, 360);
+  p.vehicle = lidar::LidarParams::Vehicle{
+      Eigen::AlignedBox3d(Eigen::Vector3d(-10, -1.5, 0), Eigen::Vector3d(10, 1.5, 3.8)),
+      Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, 3.0))};
+  EXPECT_THROW(lidar::Scanner{p}, ConfigError);
+}
+
 TEST(Scanner, MotionDistortionShiftsEachColumnByTheDistanceTravelled) {
   // A sensor running at 30 m/s along x past a wall at y = 10 m: each column is cast from where
   // the sensor is at its firing time, so its deskewed points lie v·t further along x than the

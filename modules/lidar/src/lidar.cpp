@@ -208,9 +208,14 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
       directions_[static_cast<std::size_t>(c) * L + l] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     }
+  if (params_.vehicle && params_.vehicle->box.contains(params_.vehicle->sensor_pose.translation()))
+    throw ConfigError("LiDAR: the sensor is inside its vehicle's body");
   axes_.reserve(directions_.size());
-  for (const Eigen::Vector3d& d : directions_)
+  reach_.reserve(directions_.size());
+  for (const Eigen::Vector3d& d : directions_) {
     axes_.push_back(d.cast<float>());
+    reach_.push_back(static_cast<float>(reach(d)));
+  }
   ring_lasers_ = p.ringLasers();
   for (const scene::Material& m : scene::materials())
     backscatter_.emplace_back(m);
@@ -230,6 +235,34 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   }
 }
 
+double Scanner::reach(const Eigen::Vector3d& direction) const {
+  const double limit = params_.pattern.range_max_m;
+  if (!params_.vehicle)
+    return limit;
+  // Where the ray enters the box, by the slab test in the vehicle's axes (the sensor is
+  // outside it, so the entry is the first point of the vehicle on the ray).
+  const Eigen::AlignedBox3d& box = params_.vehicle->box;
+  const Eigen::Vector3d o = params_.vehicle->sensor_pose.translation();
+  const Eigen::Vector3d d = params_.vehicle->sensor_pose.linear() * direction;
+  double enter = 0.0, leave = limit;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < box.min()[k] || o[k] > box.max()[k])
+        return limit;
+      continue;
+    }
+    double a = (box.min()[k] - o[k]) / d[k], b = (box.max()[k] - o[k]) / d[k];
+    if (a > b)
+      std::swap(a, b);
+    enter = std::max(enter, a);
+    leave = std::min(leave, b);
+    if (enter > leave)
+      return limit;
+  }
+  // A ray blocked nearer than the minimum range is cut to an empty segment (no return).
+  return std::max(enter, params_.pattern.range_min_m);
+}
+
 void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3d& origin,
                          Ray* out) const {
   const ScanPattern& p = params_.pattern;
@@ -241,8 +274,9 @@ void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3
     // 1e-7, 0.04 mm at 200 m), so there is nothing to normalise.
     const Eigen::Matrix3f rotation = T.linear().cast<float>();
     const Eigen::Vector3f* axes = &axes_[static_cast<std::size_t>(c) * L];
+    const float* reach = &reach_[static_cast<std::size_t>(c) * L];
     for (std::size_t l = 0; l < L; ++l)
-      out[l] = {o, rotation * axes[l], t_near, t_far};
+      out[l] = {o, rotation * axes[l], t_near, reach[l]};
     return;
   }
   for (std::size_t l = 0; l < L; ++l) {
@@ -258,7 +292,8 @@ void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3
           angle == 0.0 ? d
                        : Eigen::Vector3d(std::cos(angle) * d +
                                          std::sin(angle) / angle * (f.x() * v + f.y() * u));
-      out[l * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near, t_far};
+      out[l * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near,
+                        params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
     }
   }
 }

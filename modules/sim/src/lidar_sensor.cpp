@@ -12,6 +12,7 @@
 #include "trainsim/io/packed.hpp"
 #include "trainsim/io/pcd.hpp"
 #include "trainsim/lidar/lidar.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 #include "trainsim/sim/sensor_registry.hpp"
@@ -202,8 +203,38 @@ std::string_view presetName(LidarModel m) {
   return "hdl64";
 }
 
-lidar::LidarParams scannerParams(const LidarConfig& c) {
+// The sensor's pose in body axes with KITTI's Velodyne axes (x forward, y left, z up).
+Eigen::Isometry3d bodyFromSensor(const Mount& mount) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = mount.r_body_sensor * rotationBodyFromKittiVelodyne();
+  T.translation() = mount.position_m;
+  return T;
+}
+
+// The LiDAR's pose in the body's box axes (the mount is relative to the reported point, the
+// box to the pivots' midpoint).
+Eigen::Isometry3d poseOnBody(const Mount& mount, const TrainConfig& train) {
+  Eigen::Isometry3d T = bodyFromSensor(mount);
+  T.translation() += train.reference_point;
+  return T;
+}
+// Why a LiDAR at `pose` (poseOnBody) cannot be: empty unless it is inside the body.
+std::string insideTheBody(const Eigen::Isometry3d& pose, const TrainConfig& train) {
+  if (!train.body.enabled || !train.body.box().contains(pose.translation()))
+    return {};
+  return "the LiDAR is inside the train's body (train.body): mount it above train.body.roof_m "
+         "or ahead of train.body.front_x_m, or set train.body.enabled false";
+}
+
+lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
+                                 const std::string& path) {
   lidar::LidarParams p;
+  if (train.body.enabled) {
+    const Eigen::Isometry3d pose = poseOnBody(c.basics.mount.mount(), train);
+    if (const std::string why = insideTheBody(pose, train); !why.empty())
+      throw ConfigError(fmt::format("{}: {}", mountPath(path), why));
+    p.vehicle = lidar::LidarParams::Vehicle{train.body.box(), pose};
+  }
   constexpr int kUniformColumns = 2048;
   p.pattern =
       c.model == LidarModel::kUniform
@@ -314,7 +345,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
         period_(c.basics.period_ns),
         index_(setup.index),
         T_body_cam0_(setup.context.T_body_cam0),
-        scanner_(scannerParams(c)),
+        scanner_(scannerParams(c, trainSection().read(setup.context.scenario.json()), setup.path)),
         random_(setup.context.scenario.seed(), name_ + ".returns"),
         motion_compensated_(c.motion_compensated),
         point_info_(c.point_info),
@@ -322,9 +353,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
     if (scene_ == nullptr || rays_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
           fmt::format("{}: a LiDAR needs the scene (the run did not make it)", setup.path));
-    const Mount mount = c.basics.mount.mount();
-    T_body_sensor_.linear() = mount.r_body_sensor * rotationBodyFromKittiVelodyne();
-    T_body_sensor_.translation() = mount.position_m;
+    T_body_sensor_ = bodyFromSensor(c.basics.mount.mount());
   }
 
   std::string name() const override { return name_; }
@@ -489,6 +518,13 @@ scenario::Param declareLidar() {
 void checkLidar(const scenario::Json& item, const std::string& path,
                 std::vector<scenario::Problem>& problems) {
   lidarBinding().problems(lidarBinding().read(item), path, problems);
+}
+
+void checkLidarClearOfTheBody(const scenario::Json& item, const TrainConfig& train,
+                              const std::string& path, std::vector<scenario::Problem>& problems) {
+  if (const std::string why = insideTheBody(poseOnBody(readMount(item), train), train);
+      !why.empty())
+    problems.push_back({mountPath(path), why});
 }
 
 std::unique_ptr<Sensor> createLidar(const SensorSetup& setup) {

@@ -4,6 +4,7 @@
 
 #include "trainsim/scenario/param.hpp"
 #include "trainsim/scenario/schema.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/sensor.hpp"
 
 namespace trainsim::sim {
@@ -13,5 +14,8 @@ scenario::Param declareLidar();
 std::unique_ptr<Sensor> createLidar(const SensorSetup& setup);
 void checkLidar(const scenario::Json& item, const std::string& path,
                 std::vector<scenario::Problem>& problems);
+/// Checks that the LiDAR item at `path` is not mounted inside the train's body (train.body).
+void checkLidarClearOfTheBody(const scenario::Json& item, const TrainConfig& train,
+                              const std::string& path, std::vector<scenario::Problem>& problems);
 
 }  // namespace trainsim::sim

@@ -61,6 +61,10 @@ Mount readMount(const scenario::Json& item) {
   return mountBinding().read(item.at(kMount)).mount();
 }
 
+std::string mountPath(const std::string& item_path) {
+  return fmt::format("{}.{}", item_path, kMount);
+}
+
 std::vector<std::string> sensorFiles(std::span<const char* const> patterns,
                                      const std::string& name) {
   std::vector<std::string> out;

@@ -63,6 +63,23 @@ bool isIdentifier(const std::string& name) {
     return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
   });
 }
+
+// The kind a sensor's create function belongs to.
+const SensorKind& kindOf(std::unique_ptr<Sensor> (*create)(const SensorSetup&)) {
+  return *std::find_if(kSensorKinds.begin(), kSensorKinds.end(),
+                       [&](const SensorKind& k) { return k.create == create; });
+}
+
+// No LiDAR inside the train's body: its rays would all end on the body.
+void checkLidarsClearOfTheBody(const scenario::Json& resolved,
+                               std::vector<scenario::Problem>& problems) {
+  const SensorKind& lidars = kindOf(&createLidar);
+  const TrainConfig train = trainSection().read(resolved);
+  const scenario::Json& list = resolved.at(kSensors).at(lidars.key);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    checkLidarClearOfTheBody(list[i], train, fmt::format("{}.{}[{}]", kSensors, lidars.key, i),
+                             problems);
+}
 }  // namespace
 
 std::span<const SensorKind> sensorKinds() {
@@ -70,9 +87,7 @@ std::span<const SensorKind> sensorKinds() {
 }
 
 Eigen::Isometry3d referenceCameraPose(const scenario::Json& resolved) {
-  const auto camera = std::find_if(kSensorKinds.begin(), kSensorKinds.end(),
-                                   [](const SensorKind& k) { return k.create == &createCamera; });
-  const scenario::Json& cameras = resolved.at(kSensors).at(camera->key);
+  const scenario::Json& cameras = resolved.at(kSensors).at(kindOf(&createCamera).key);
   if (!cameras.empty())
     return cameraBodyPose(cameras[0]);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -129,6 +144,7 @@ void addSensorsSection(scenario::Schema& schema) {
   schema.add(scenario::object(kSensors, "Simulated sensors, a list per kind.", std::move(kinds)));
   schema.addCheck(checkSensorNames);
   schema.addCheck(checkFrameSynchronous);
+  schema.addCheck(checkLidarsClearOfTheBody);
   schema.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
     for (const SensorKind& kind : sensorKinds()) {
       const scenario::Json& list = resolved.at(kSensors).at(kind.key);

@@ -55,6 +55,28 @@ const Binding<track::TrainDynamics>& dynamicsBinding() {
   return binding;
 }
 
+const Binding<BodyConfig>& bodyBinding() {
+  static const Binding<BodyConfig> binding = [] {
+    Binding<BodyConfig> b;
+    b.boolean("enabled", &BodyConfig::enabled,
+              "Rays that meet the body end there without a return (a LiDAR on the roof does not "
+              "see the track through the train)");
+    b.number("front_x_m", &BodyConfig::front_x_m, kM,
+             "Front edge of the roof, forward of the origin midway between the bogie pivots "
+             "(the nose below it is not modelled)")
+        .range(-100, 100);
+    b.number("length_m", &BodyConfig::length_m, kM,
+             "Length of the lead vehicle, rigid with its sensors (the cars behind it follow the "
+             "curves and are not modelled)")
+        .range(1, 100);
+    b.number("width_m", &BodyConfig::width_m, kM, "Width of the body").range(0.5, 5);
+    b.number("roof_m", &BodyConfig::roof_m, kM, "Height of the roof above top of rail")
+        .range(0.5, 6);
+    return b;
+  }();
+  return binding;
+}
+
 const Binding<Eigen::Vector3d>& referencePointBinding() {
   static const Binding<Eigen::Vector3d> binding = [] {
     Binding<Eigen::Vector3d> b(Eigen::Vector3d::Zero());
@@ -121,6 +143,9 @@ const scenario::Section<TrainConfig>& trainSection() {
              "between the bogie pivots at top of rail)");
     b.object("dynamics", &TrainConfig::dynamics, dynamicsBinding(),
              "Optional traction and running resistance limiting acceleration.");
+    b.object("body", &TrainConfig::body, bodyBinding(),
+             "The lead vehicle's body as a box in body axes (origin midway between the bogie "
+             "pivots at top of rail): what it hides from the LiDARs on it.");
     b.check([](const TrainConfig& c, const scenario::FieldPaths<TrainConfig>& at,
                std::vector<Problem>& out) {
       if (c.vehicle.bogie_spacing_m > c.limits.train_length_m)

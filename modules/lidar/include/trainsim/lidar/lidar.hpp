@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,6 +46,17 @@ struct LidarParams {
   /// ∝ reflectivity / range²), the last, or both (dual; one point when they are the same echo).
   enum class Returns { kStrongest, kLast, kDual };
   Returns returns = Returns::kStrongest;
+
+  /// The vehicle the sensor rides on: a box in the vehicle's own axes and the sensor's pose in
+  /// them. A ray that meets the box ends there with no return (a sensor's driver drops the
+  /// echoes of its own vehicle), so nothing the vehicle hides is seen through it. The box is
+  /// rigid with the sensor, so each beam's reach is cut once, when the scanner is made, and
+  /// Embree never traverses the hidden part of a ray. Empty: nothing around the sensor.
+  struct Vehicle {
+    Eigen::AlignedBox3d box;
+    Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();
+  };
+  std::optional<Vehicle> vehicle;
 };
 
 /// One return.
@@ -114,6 +126,9 @@ class Scanner {
   /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
   /// rays.
   std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
+  /// How far a ray along `direction` (sensor frame, unit) reaches: the range limit, or less
+  /// where the vehicle (LidarParams::vehicle) is in the way.
+  double reach(const Eigen::Vector3d& direction) const;
 
  private:
   /// Column c's rays from `pose`, relative to `origin`.
@@ -126,6 +141,7 @@ class Scanner {
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
   std::vector<Eigen::Vector3f> axes_;        // the same in float, for the rays
+  std::vector<float> reach_;                 // each beam axis's reach(), [column][laser]
   std::vector<Eigen::Vector2d> footprint_;   // sub-ray offsets (rad) across and along the beam
   std::vector<int> ring_lasers_;             // the laser of each ring
   std::vector<Backscatter> backscatter_;     // by material id

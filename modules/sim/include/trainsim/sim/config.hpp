@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/geodesy.hpp"
@@ -43,6 +44,22 @@ struct RouteConfig {
   std::vector<track::BlockSpec> blocks;
 };
 
+/// `train.body`: the lead vehicle's body as a box in body axes (origin midway between the bogie
+/// pivots at top of rail), for what it hides from the LiDARs on it.
+struct BodyConfig {
+  bool enabled = true;
+  double front_x_m = 10.0;  ///< the roof's front edge
+  double length_m = 24.0;
+  double width_m = 2.9;
+  double roof_m = 3.8;  ///< above top of rail
+
+  /// The box, in body axes.
+  Eigen::AlignedBox3d box() const {
+    return {Eigen::Vector3d(front_x_m - length_m, -0.5 * width_m, 0.0),
+            Eigen::Vector3d(front_x_m, 0.5 * width_m, roof_m)};
+  }
+};
+
 /// `train`: longitudinal limits, the body on its bogies, the reported point, dynamics.
 struct TrainConfig {
   track::MotionLimits limits;
@@ -50,6 +67,7 @@ struct TrainConfig {
   /// Body point whose pose the trajectory reports (body axes, m).
   Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();
   track::TrainDynamics dynamics;
+  BodyConfig body;
 };
 
 /// `trajectory`: the movement system's clock.

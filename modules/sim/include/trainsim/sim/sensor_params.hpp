@@ -52,6 +52,8 @@ std::string readSensorName(const scenario::Json& item);
 TimeNs readSensorPeriod(const scenario::Json& item);
 /// The mount of a resolved sensor item of a kind with a mount.
 Mount readMount(const scenario::Json& item);
+/// The JSON path of the mount of the sensor item at `item_path`, for messages.
+std::string mountPath(const std::string& item_path);
 
 /// The files a sensor writes in the sequence folder, as patterns with "{}" for its name: the
 /// one list both the schema's file-clash check and the sensor's own outputs() use. The first
