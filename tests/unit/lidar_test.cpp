@@ -170,7 +170,7 @@ TEST_P(RaySceneAt, RangesMatchPlanesBoxesSpheresAndWiresToAMillimetre) {
       truth = (-B - std::sqrt(B * B - 4 * A * C)) / (2 * A);
       ASSERT_TRUE(hits[i].hit()) << i;
       EXPECT_EQ(hits[i].cls, scene::cls::kWire);
-      EXPECT_EQ(hits[i].instance, 77u);
+      EXPECT_EQ(scene.instances()[hits[i].object], 77u);
     } else {
       truth = bruteForce(*tile, sensor, d);
     }
@@ -187,7 +187,7 @@ TEST_P(RaySceneAt, RangesMatchPlanesBoxesSpheresAndWiresToAMillimetre) {
     if (i < 3 * distances.size()) {
       EXPECT_EQ(hits[i].cls, scene::cls::kBuilding);
       EXPECT_EQ(hits[i].material, scene::mat::kConcrete);
-      EXPECT_EQ(hits[i].instance, i / 3 + 1);  // each plane its own instance
+      EXPECT_EQ(scene.instances()[hits[i].object], i / 3 + 1);  // each plane its own instance
       EXPECT_GT(std::abs(hits[i].normal.cast<double>().dot(normal(i / 3))), 1.0 - 1e-6);
     }
   }
@@ -231,7 +231,7 @@ TEST(RayScene, InstancedPrototypesCarryTheirObjectsLabelsAndTransform) {
   scene.intersect(rays, hits);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     ASSERT_TRUE(hits[i].hit());
-    EXPECT_EQ(hits[i].instance, 1000 + i / 2);
+    EXPECT_EQ(scene.instances()[hits[i].object], 1000 + i / 2);
     EXPECT_EQ(hits[i].cls, i % 2 == 0 ? scene::cls::kTrunk : scene::cls::kTree);
     const double truth = bruteForce(*tile, sensor, rays[i].direction.cast<double>());
     EXPECT_NEAR(hits[i].range, truth, 1e-3);
@@ -282,7 +282,7 @@ TEST(RayScene, HeightFieldsAsEmbreeGridsAreTheSameSurfaceAsTheirTriangles) {
     worst_truth = std::max(worst_truth, std::abs(hb[i].range - truth));
     EXPECT_EQ(hb[i].cls, scene::cls::kTerrain);
     EXPECT_EQ(hb[i].material, scene::mat::kGrass);
-    EXPECT_EQ(hb[i].instance, ha[i].instance);
+    EXPECT_EQ(b.instances()[hb[i].object], a.instances()[ha[i].object]);
     EXPECT_GT(ha[i].normal.dot(hb[i].normal), 0.9999f) << i;
   }
   EXPECT_GT(hits, 1500);
@@ -543,11 +543,12 @@ TEST(Scanner, MotionDistortionShiftsEachColumnByTheDistanceTravelled) {
   for (std::size_t i = 0; i < run.points.size(); ++i) {
     const auto& a = still.points[i];
     const auto& b = run.points[i];
-    EXPECT_EQ(a.time_s, b.time_s);
-    worst_offset = std::max(worst_offset, std::abs((b.xyz.x() - a.xyz.x()) - v * b.time_s));
+    const float t = moving_scanner.time(b);
+    EXPECT_EQ(static_scanner.time(a), t);
+    worst_offset = std::max(worst_offset, std::abs((b.xyz.x() - a.xyz.x()) - v * t));
     worst_wall = std::max(worst_wall, std::abs(b.xyz.y() - 10.0));
-    // The raw point is where the sensor measured it, from where it was.
-    EXPECT_NEAR(b.xyz_raw.x() + v * b.time_s, b.xyz.x(), 1e-3);
+    // The measured point is where the sensor saw it, from where it was.
+    EXPECT_NEAR(moving_scanner.measured(b).x() + v * t, b.xyz.x(), 1e-3);
   }
   EXPECT_LT(worst_offset, 1e-3);
   EXPECT_LT(worst_wall, 1e-3);
@@ -671,16 +672,18 @@ TEST(Divergence, AThinWireIsHitAtTheRateItsFootprintCoveragePredicts) {
     const auto frame = sweep.scan(sweep.params(n, lidar::LidarParams::Returns::kStrongest));
     int hits = 0;
     double covered = 0.0;
-    for (const auto& pt : frame.points) {
+    ASSERT_EQ(frame.coverage.size(), frame.points.size());
+    for (std::size_t i = 0; i < frame.points.size(); ++i) {
+      const auto& pt = frame.points[i];
       if (pt.xyz.x() < 0)
         continue;  // column 0 looks backwards at nothing
       ASSERT_EQ(pt.cls, scene::cls::kWire);
-      ASSERT_EQ(pt.instance, 5u);
+      ASSERT_EQ(frame.instance(pt), 5u);
       EXPECT_NEAR(pt.range_m, WireSweep::kRange, 2 * WireSweep::kRadius);
-      EXPECT_GT(pt.coverage, 0.0f);
-      EXPECT_LE(pt.coverage, 1.0f);
+      EXPECT_GT(frame.coverage[i], 0.0f);
+      EXPECT_LE(frame.coverage[i], 1.0f);
       ++hits;
-      covered += pt.coverage;
+      covered += frame.coverage[i];
     }
     // A pulse sees the wire while its footprint overlaps it: axes within footprint + radius.
     const double rate = hits * WireSweep::step();
@@ -713,11 +716,15 @@ TEST(Divergence, DualReturnsReportTheWireAndTheWallBehindIt) {
   const auto dual = sweep.scan(sweep.params(64, Returns::kDual));
   const auto last = sweep.scan(sweep.params(64, Returns::kLast));
   const auto strongest = sweep.scan(sweep.params(64, Returns::kStrongest));
+  // The points ahead (column 0 looks backwards at nothing), each with its share of its pulse.
+  struct Ahead : lidar::LidarPoint {
+    float coverage;
+  };
   const auto ahead = [](const lidar::LidarFrame& f) {
-    std::vector<lidar::LidarPoint> out;
-    for (const auto& pt : f.points)
-      if (pt.xyz.x() > 0)
-        out.push_back(pt);
+    std::vector<Ahead> out;
+    for (std::size_t i = 0; i < f.points.size(); ++i)
+      if (f.points[i].xyz.x() > 0)
+        out.push_back({f.points[i], f.coverage[i]});
     return out;
   };
   const auto d = ahead(dual), l = ahead(last), s = ahead(strongest);

@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "trainsim/core/error.hpp"
@@ -161,6 +162,7 @@ std::size_t selectReturns(std::vector<Echo>& echoes, const LidarParams& params) 
 // slots ring by ring; per ring its returns in output order.
 struct Scanner::Scratch {
   std::vector<LidarPoint> points;
+  std::vector<float> coverage;  // with divergence only
   std::vector<float> keys;
   std::vector<std::vector<std::uint64_t>> order;    // per ring: key bits << 32 | slot
   std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
@@ -185,6 +187,8 @@ std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   auto s = std::make_unique<Scratch>();
   const auto slots = static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse());
   s->points.resize(slots);
+  if (params_.sub_rays > 1)
+    s->coverage.resize(slots);
   s->keys.resize(slots);
   s->order.resize(params_.pattern.lasers.size());
   for (auto& o : s->order)
@@ -197,8 +201,13 @@ std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
 
 Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   const ScanPattern& p = params_.pattern;
-  if (p.columns < 1 || p.columns >= (1 << kColumnBits) || p.lasers.empty())
-    throw ConfigError("LiDAR pattern: columns must be 1..1048575 and there must be lasers");
+  // The limits of LidarPoint's fields (and of the random keys' column bits).
+  static_assert((1 << kColumnBits) > std::numeric_limits<std::uint16_t>::max());
+  if (p.columns < 1 || p.columns > std::numeric_limits<std::uint16_t>::max() || p.lasers.empty() ||
+      p.lasers.size() > std::numeric_limits<std::uint16_t>::max())
+    throw ConfigError("LiDAR pattern: columns must be 1..65535 and lasers 1..65535");
+  if (scene::materials().size() > std::numeric_limits<std::uint8_t>::max() + 1u)
+    throw RuntimeError("LiDAR: a point holds a material id in a byte; the table has more");
   const std::size_t L = p.lasers.size();
   directions_.resize(static_cast<std::size_t>(p.columns) * L);
   for (int c = 0; c < p.columns; ++c)
@@ -343,6 +352,9 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     first[r + 1] += first[r];
   out.rays = raysPerFrame();
   out.points.resize(first[rings]);
+  const bool divergent = !w.coverage.empty();
+  out.coverage.resize(divergent ? first[rings] : 0);
+  out.instances = scene.instances();
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
     const LidarPoint* from = w.points.data() + r * W * R;
     LidarPoint* to = out.points.data() + first[r];
@@ -354,6 +366,12 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
       if (k + kAhead < order.size())
         __builtin_prefetch(from + (order[k + kAhead] & 0xFFFFFFFFu));
       *to++ = from[order[k] & 0xFFFFFFFFu];
+    }
+    if (divergent) {
+      const float* share = w.coverage.data() + r * W * R;
+      float* into = out.coverage.data() + first[r];
+      for (const std::uint64_t o : order)
+        *into++ = share[o & 0xFFFFFFFFu];
     }
   });
   scratch_.give(std::move(scratch));
@@ -375,11 +393,11 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
   const bool noisy = sigma0 > 0.0 || sigma1 > 0.0, falloff = params_.range_falloff;
   const bool compensated = params_.motion_compensated;
   const IntensityScale scale = params_.scale;
-  const double column_period = p.columnPeriod();
   const Backscatter* backscatter = backscatter_.data();
   const Laser* lasers = p.lasers.data();
   float* keys = w.keys.data();
   LidarPoint* points = w.points.data();
+  float* coverages = w.coverage.data();
   const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
 
   const auto columns = static_cast<std::size_t>(end - begin);
@@ -410,29 +428,27 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
       }
     // From the sensor at this column's firing to the sensor at the frame time.
     const Eigen::Isometry3d deskew = world_to_frame * b.poses[i];
-    const double column_time = c * column_period;
     const Eigen::Vector3d* axes = &directions_[static_cast<std::size_t>(c) * L];
     // Writes slot `slot` of laser l: the echo at `truth` m with reflectivity `rho`, if `ok` and
     // its noisy range is within limits; otherwise marks the slot empty. The point's fields are
     // written either way (an empty slot's are never read).
     const auto put = [&](std::size_t l, std::size_t slot, std::size_t j, double truth, double rho,
-                         double coverage, const RayHit& label, bool ok) {
-      const double range_m = truth + (sigma0 + sigma1 * truth) * noise[j * L + l];
+                         const RayHit& label, bool ok) {
+      const auto range_m = static_cast<float>(truth + (sigma0 + sigma1 * truth) * noise[j * L + l]);
       ok = ok && range_m >= range_min && range_m <= range_max;
       LidarPoint& pt = points[slot];
-      const Eigen::Vector3d raw = axes[l] * range_m;
+      // From the range as written, so that Scanner::measured() gives these coordinates back.
+      const Eigen::Vector3d raw = axes[l] * static_cast<double>(range_m);
       pt.xyz = (deskew * raw).cast<float>();
-      pt.xyz_raw = raw.cast<float>();
       pt.intensity = static_cast<float>(scaledIntensity(rho, range_m, falloff, scale));
-      pt.range_m = static_cast<float>(range_m);
-      pt.time_s = static_cast<float>(column_time + lasers[l].time_offset_s);
+      pt.range_m = range_m;
+      pt.object = label.object;
+      pt.column = static_cast<std::uint16_t>(c);
       pt.ring = static_cast<std::uint16_t>(lasers[l].ring);
-      pt.return_index = static_cast<std::uint8_t>(j);
-      pt.coverage = static_cast<float>(coverage);
       pt.cls = label.cls;
-      pt.material = label.material;
-      pt.instance = label.instance;
-      const Eigen::Vector3f& written = compensated ? pt.xyz : pt.xyz_raw;
+      pt.material = static_cast<std::uint8_t>(label.material);
+      pt.return_index = static_cast<std::uint8_t>(j);
+      const Eigen::Vector3f written = compensated ? pt.xyz : raw.cast<float>();
       keys[slot] = ok ? pseudoAzimuth(written.x(), written.y()) : kNoReturn;
     };
     for (std::size_t l = 0; l < L; ++l) {
@@ -447,8 +463,7 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
         const double cos_theta =
             std::abs(h.normal.cast<double>().dot(rays[base].direction.cast<double>()));
         const double rho = backscatter[h.material](cos_theta);
-        put(l, slot0, 0, h.range, rho, 1.0, h,
-            h.hit() && rho > 0.0 && rho >= threshold && kept[l] != 0);
+        put(l, slot0, 0, h.range, rho, h, h.hit() && rho > 0.0 && rho >= threshold && kept[l] != 0);
         for (std::size_t j = 1; j < R; ++j)
           keys[slot0 + j] = kNoReturn;
         continue;
@@ -469,10 +484,10 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
         chosen = selectReturns(echoes, params_);  // 0 when none is bright enough
       }
       for (std::size_t j = 0; j < R; ++j) {
-        if (j < chosen)
-          put(l, slot0 + j, j, echoes[j].range, echoes[j].reflectivity, echoes[j].coverage,
-              *echoes[j].label, true);
-        else
+        if (j < chosen) {
+          put(l, slot0 + j, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label, true);
+          coverages[slot0 + j] = static_cast<float>(echoes[j].coverage);
+        } else
           keys[slot0 + j] = kNoReturn;
       }
     }

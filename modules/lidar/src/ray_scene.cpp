@@ -264,14 +264,16 @@ struct InstInfo {
   scene::InstanceId instance = 0;
   Eigen::Matrix3f normal = Eigen::Matrix3f::Identity();  // inverse transpose of the linear part
   bool rotated = false;                                  // the linear part is not the identity
-  GeomInfo object;  // an object's labels (its prototype's mesh and its instance id)
+  GeomInfo object;                 // an object's labels (its prototype's mesh and its instance id)
+  std::uint32_t first_object = 0;  // RayHit::object of its first geometry
 };
 
 struct RayScene::Impl {
   std::shared_ptr<void> device_keepalive;
   Eigen::Vector3d origin;
   SceneHandle top;
-  std::vector<InstInfo> instances;  // by instID
+  std::vector<InstInfo> instances;         // by instID
+  std::vector<scene::InstanceId> objects;  // instance ids by RayHit::object
   std::vector<scene::TileIndex> key;
 };
 
@@ -336,6 +338,10 @@ std::size_t RayScene::instanceCount() const {
   return impl_->instances.size();
 }
 
+const std::vector<scene::InstanceId>& RayScene::instances() const {
+  return impl_->objects;
+}
+
 void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Traversal mode) const {
   RTCScene top = impl_->top.scene;
   if (mode == Traversal::kPacket8) {
@@ -396,8 +402,9 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
     h.range = p.ray.tfar[k];
     const Eigen::Vector3f n = inst.rotated ? Eigen::Vector3f(inst.normal * ng) : ng;
     h.normal = n * (1.0f / n.norm());  // one division, not three
-    const GeomInfo& g = inst.tile ? inst.tile->geoms[p.hit.geomID[k]] : inst.object;
-    h.instance = g.instance;
+    const unsigned geom = inst.tile ? p.hit.geomID[k] : 0;
+    const GeomInfo& g = inst.tile ? inst.tile->geoms[geom] : inst.object;
+    h.object = inst.first_object + geom;
     if (g.mesh == nullptr) {
       h.cls = g.cls;
       h.material = g.material;
@@ -550,8 +557,14 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
     rtcReleaseGeometry(g);
     info.normal = linear.inverse().transpose();
     info.rotated = !linear.isIdentity(0.0f);
-    if (info.proto)
+    info.first_object = static_cast<std::uint32_t>(s->objects.size());
+    if (info.proto) {
       info.object = {info.proto->mesh.get(), 0, 0, info.instance};
+      s->objects.push_back(info.instance);
+    } else {
+      for (const GeomInfo& geom : info.tile->geoms)
+        s->objects.push_back(geom.instance);
+    }
     s->instances.push_back(std::move(info));
   };
   for (const auto& t : tiles) {

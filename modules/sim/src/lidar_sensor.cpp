@@ -347,7 +347,6 @@ class LidarSensor final : public SensorOf<LidarScan> {
         T_body_cam0_(setup.context.T_body_cam0),
         scanner_(scannerParams(c, trainSection().read(setup.context.scenario.json()), setup.path)),
         random_(setup.context.scenario.seed(), name_ + ".returns"),
-        motion_compensated_(c.motion_compensated),
         point_info_(c.point_info),
         pcd_(c.pcd) {
     if (scene_ == nullptr || rays_ == nullptr || instances_ == nullptr)
@@ -439,22 +438,23 @@ class LidarSensor final : public SensorOf<LidarScan> {
     char* bin = out.bin.data();
     char* info = out.info.data();
     for (const lidar::LidarPoint& p : frame.points) {
-      const Eigen::Vector3f& xyz = motion_compensated_ ? p.xyz : p.xyz_raw;
+      const Eigen::Vector3f xyz = scanner_.written(p);
       io::putPacked(bin, xyz.x());
       io::putPacked(bin, xyz.y());
       io::putPacked(bin, xyz.z());
       io::putPacked(bin, p.intensity);
+      const float time = point_info_ || pcd_ ? scanner_.time(p) : 0.0f;
       if (point_info_) {
-        io::putPacked(info, p.time_s);
+        io::putPacked(info, time);
         io::putPacked(info, p.range_m);
         io::putPacked(info, p.ring);
         io::putPacked(info, p.return_index);
-        io::putPacked(info, static_cast<std::uint8_t>(p.material));
+        io::putPacked(info, p.material);
       }
       out.cls.push_back(p.cls);
-      out.instance.push_back(p.instance);
+      out.instance.push_back(frame.instance(p));
       if (pcd_)
-        out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, p.time_s, 0});
+        out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, time, 0});
     }
     frames_.give(std::move(reused));
     return out;
@@ -498,7 +498,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   Eigen::Isometry3d T_body_sensor_ = Eigen::Isometry3d::Identity();
   lidar::Scanner scanner_;
   RandomStream random_;
-  bool motion_compensated_, point_info_, pcd_;
+  bool point_info_, pcd_;
   mutable ObjectPool<lidar::LidarFrame> frames_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;

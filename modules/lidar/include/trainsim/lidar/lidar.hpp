@@ -31,8 +31,8 @@ struct LidarParams {
   /// train; PoseAt is asked at every 16th column and interpolated in between, far below a
   /// micrometre for a train); otherwise every ray from the pose at the frame time.
   bool motion_distortion = true;
-  /// Which coordinates the dataset writes, and so orders each ring by: xyz (deskewed, KITTI
-  /// odometry) or xyz_raw (as measured).
+  /// Which coordinates the dataset writes, and so orders each ring by: LidarPoint::xyz
+  /// (deskewed, KITTI odometry) or Scanner::measured() (as measured); Scanner::written().
   bool motion_compensated = true;
 
   /// Beam divergence: each pulse is `sub_rays` rays spread evenly (a sunflower pattern, equal
@@ -59,24 +59,24 @@ struct LidarParams {
   std::optional<Vehicle> vehicle;
 };
 
-/// One return.
-struct LidarPoint {
-  Eigen::Vector3f xyz;      ///< sensor frame at the frame time (motion-compensated, KITTI)
-  Eigen::Vector3f xyz_raw;  ///< sensor frame at the firing time (as the sensor measures it)
-  float intensity = 0.0f;   ///< scaled as LidarParams::scale says
-  float range_m = 0.0f;     ///< measured (noisy) range
-  float time_s = 0.0f;      ///< firing time after the frame time
-  std::uint16_t ring = 0;   ///< 0 = the highest laser
+/// One return, in 32 bytes (two to a cache line: a frame is written, ordered and read back
+/// through memory, so its size is much of its cost). What follows from these fields is not
+/// stored: the firing time and the coordinates as measured are Scanner::time() and
+/// Scanner::measured(), the instance id LidarFrame::instance().
+struct alignas(32) LidarPoint {
+  /// Sensor frame at the frame time (deskewed to it with motion distortion on; KITTI's .bin).
+  Eigen::Vector3f xyz = Eigen::Vector3f::Zero();
+  float intensity = 0.0f;    ///< scaled as LidarParams::scale says
+  float range_m = 0.0f;      ///< measured (noisy) range
+  std::uint32_t object = 0;  ///< the surface's object: an index into LidarFrame::instances
+  std::uint16_t column = 0;  ///< the firing's column
+  std::uint16_t ring = 0;    ///< 0 = the highest laser
+  scene::ClassId cls = 0;
+  std::uint8_t material = 0;  ///< scene::MaterialId (the table has fewer than 256)
   /// 0: the strongest (or last, or only) return; 1: the last of a dual-return pulse.
   std::uint8_t return_index = 0;
-  /// The share of the pulse's energy in this echo (1 without divergence): a thin wire in the
-  /// footprint returns a fraction, and a fainter point (the intensity is the echo's
-  /// footprint-weighted reflectivity).
-  float coverage = 1.0f;
-  scene::ClassId cls = 0;
-  scene::MaterialId material = 0;
-  scene::InstanceId instance = 0;
 };
+static_assert(sizeof(LidarPoint) == 32);
 
 struct LidarFrame {
   /// Ring by ring from ring 0 (the highest); within a ring by the azimuth of the written
@@ -84,7 +84,15 @@ struct LidarFrame {
   /// order, in which the community's ring recovery (a new ring where the azimuth crosses +x
   /// from quadrant 4 to 1) never splits a ring, even where deskewing moves a point across +x.
   std::vector<LidarPoint> points;
+  /// With beam divergence (sub_rays > 1), each point's share of its pulse's energy (the thin
+  /// wire in a footprint returns a fraction, and a fainter point: the intensity is the echo's
+  /// footprint-weighted reflectivity); empty otherwise (every share is 1).
+  std::vector<float> coverage;
+  /// Instance ids by LidarPoint::object (0 for "stuff" without instances).
+  std::vector<scene::InstanceId> instances;
   std::int64_t rays = 0;
+
+  scene::InstanceId instance(const LidarPoint& p) const { return instances[p.object]; }
 };
 
 /// The sensor's world pose (sensor → world) at `t` seconds after the frame time.
@@ -126,11 +134,25 @@ class Scanner {
   /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
   /// rays.
   std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
+  /// A point's firing time after the frame time, seconds.
+  float time(const LidarPoint& p) const {
+    return static_cast<float>(params_.pattern.firingTime(p.column, laser(p)));
+  }
+  /// A point in the sensor frame at its firing time (as the sensor measures it, not deskewed):
+  /// its beam's axis times its range.
+  Eigen::Vector3f measured(const LidarPoint& p) const {
+    return (direction(p.column, laser(p)) * static_cast<double>(p.range_m)).cast<float>();
+  }
+  /// The coordinates a dataset writes for `p` (LidarParams::motion_compensated).
+  Eigen::Vector3f written(const LidarPoint& p) const {
+    return params_.motion_compensated ? p.xyz : measured(p);
+  }
   /// How far a ray along `direction` (sensor frame, unit) reaches: the range limit, or less
   /// where the vehicle (LidarParams::vehicle) is in the way.
   double reach(const Eigen::Vector3d& direction) const;
 
  private:
+  int laser(const LidarPoint& p) const { return ring_lasers_[p.ring]; }
   /// Column c's rays from `pose`, relative to `origin`.
   void columnRays(int column, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
                   Ray* out) const;

@@ -23,13 +23,14 @@ struct Ray {
 };
 
 /// What a ray hit: range (infinity for a miss), the unit geometric normal in world axes
-/// (facing either way), and the labels of the surface.
+/// (facing either way), and the labels of the surface: its class, material and object (an
+/// index into RayScene::instances(), whose instance id it has).
 struct RayHit {
   float range = std::numeric_limits<float>::infinity();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();
   scene::ClassId cls = 0;
   scene::MaterialId material = 0;
-  scene::InstanceId instance = 0;
+  std::uint32_t object = 0;
   bool hit() const { return range < std::numeric_limits<float>::infinity(); }
 };
 
@@ -48,6 +49,9 @@ class RayScene {
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
   /// Top-level instances (tiles + instanced objects).
   std::size_t instanceCount() const;
+  /// The instance ids of the scene's objects (every geometry of a tile, every instanced
+  /// object), by RayHit::object; 0 for "stuff" without instances.
+  const std::vector<scene::InstanceId>& instances() const;
 
   /// How the benchmark's raw traversal hands rays to Embree.
   enum class Traversal { kPacket8, kSingle, kStream };
