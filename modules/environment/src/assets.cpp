@@ -142,6 +142,28 @@ void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FrameP
     }
 }
 
+std::vector<std::pair<double, double>> mainChainagesNear(const TileContext& ctx, double reach,
+                                                         int track) {
+  std::vector<std::pair<double, double>> out;
+  for (const terrain::Stretch& s : ctx.env.railway().stretchesNear(ctx.lo, ctx.hi, reach))
+    if (track < 0 || s.track == track)
+      out.emplace_back(s.x0, s.x1);
+  std::sort(out.begin(), out.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& r : out)
+    if (!merged.empty() && r.first <= merged.back().second)
+      merged.back().second = std::max(merged.back().second, r.second);
+    else
+      merged.push_back(r);
+  return merged;
+}
+
+bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, double x1) {
+  const auto it = std::upper_bound(ranges.begin(), ranges.end(), x1,
+                                   [](double v, const auto& r) { return v < r.first; });
+  return it != ranges.begin() && std::prev(it)->second >= x0;
+}
+
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x) {
   double left = 0.0, right = 0.0;
   for (const auto& t : layout.tracks) {

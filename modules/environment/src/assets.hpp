@@ -56,6 +56,14 @@ std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track
 void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FramePoint>& run,
              const std::vector<Eigen::Vector2d>& profile, bool closed);
 
+/// The main-track chainage ranges, sorted and disjoint, where a track of the layout (`track`,
+/// or any with -1) passes within `reach` of the tile (plan view): what stands at most `reach`
+/// beside a track and is in the tile has its chainage in one of them.
+std::vector<std::pair<double, double>> mainChainagesNear(const TileContext& ctx, double reach,
+                                                         int track = -1);
+/// Whether [x0, x1] meets one of `ranges` (sorted and disjoint).
+bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, double x1);
+
 /// Lateral offsets (from the main track, + left) of the outermost track on each side at main
 /// chainage x: left ≥ 0, right ≤ 0.
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x);

@@ -6,6 +6,7 @@
 #include "objects.hpp"
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/core/random.hpp"
+#include "trainsim/track/earth.hpp"
 
 namespace trainsim::environment {
 
@@ -33,6 +34,8 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
   signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
   scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
   signal_ = std::move(signal);
+  if (const track::EarthPlacement* earth = railway_->main().earth())
+    anchor_.emplace(earth->anchor());
   const auto& tracks = railway_->layout().tracks;
   if (params_.assets.catenary) {
     supports_[0] = detail::planSupports(*railway_, params_.assets, 0);
@@ -67,6 +70,8 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,
   const scene::TileGrid g = grid();
   const Eigen::Vector2d lo = g.corner(index);
   tile->origin = {lo.x(), lo.y(), heights.z0};
+  if (anchor_)
+    tile->level = anchor_->rotationAnchorFromLocalEnu(tile->origin - railway_->shift());
   // The ground: simplified to its vertical tolerance (CGAL), or the full grid.
   const double tolerance = params_.terrain.simplify_tolerance_m;
   auto ground =

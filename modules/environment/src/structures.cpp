@@ -44,7 +44,12 @@ void addStructures(TileContext& ctx) {
   const terrain::Railway& railway = ctx.env.railway();
   const auto& layout = railway.layout();
   const double formation = T.formation_depth_m;
+  // The main track's chainages near the tile (ownedRuns' own margin): a structure outside them
+  // has nothing in the tile, and is passed over without asking the track.
+  const std::vector<std::pair<double, double>> near = mainChainagesNear(ctx, 10.0, 0);
   for (const terrain::Structure& s : railway.structures()) {
+    if (!overlaps(near, s.chainage_begin_m, s.chainage_end_m))
+      continue;
     const auto runs = ownedRuns(ctx, 0, s.chainage_begin_m, s.chainage_end_m);
     if (runs.empty())
       continue;
@@ -168,8 +173,18 @@ void addFencesAndSignals(TileContext& ctx) {
   const auto& blocks = railway.route().blocks;
   const RandomStream fences(ctx.env.seed(), "assets/fence");
   const double formation = ctx.env.params().terrain.formation_depth_m;
+  // A fence post or a signal stands its offset beyond the outermost track at its chainage, so
+  // only the chainages where some track passes within that of the tile can hold one of the
+  // tile's: the rest of the route is not walked (a tile costs the same on a 1000 km route as on
+  // a 1 km one). 5 m spare covers the polyline's chords and the cant.
+  const std::vector<std::pair<double, double>> near =
+      mainChainagesNear(ctx, std::max(A.fence_offset_m, A.signal_offset_m) + 5.0);
+  const auto inNear = [&](double x) { return overlaps(near, x, x); };
+  const auto overlapsNear = [&](double x0, double x1) { return overlaps(near, x0, x1); };
   for (const track::Block& b : blocks) {
     if (b.type != track::BlockType::kStraight && b.type != track::BlockType::kCurve)
+      continue;
+    if (!overlapsNear(b.chainage_begin_m, b.chainage_end_m))
       continue;
     // Fences: per block and side with fence_probability, posts every 2.5 m and two strands.
     for (const int side : {1, -1}) {
@@ -191,6 +206,10 @@ void addFencesAndSignals(TileContext& ctx) {
         strand.clear();
       };
       for (double x = b.chainage_begin_m + 1.25; x < b.chainage_end_m; x += 2.5) {
+        if (!inNear(x)) {
+          flush();
+          continue;
+        }
         const auto [l, r] = outermostOffsets(layout, x);
         const double lateral = side > 0 ? l + A.fence_offset_m : r - A.fence_offset_m;
         const track::TrackFrame f = railway.frame(0, x);
@@ -219,7 +238,7 @@ void addFencesAndSignals(TileContext& ctx) {
   const auto& proto = ctx.env.signalPrototype();
   for (std::size_t i = 1; i < blocks.size(); ++i) {
     const double x = blocks[i].chainage_begin_m - 20.0;
-    if (x < 0.0)
+    if (x < 0.0 || !inNear(x))
       continue;
     const auto [l, r] = outermostOffsets(layout, x);
     for (const int track_id : {0, 1}) {

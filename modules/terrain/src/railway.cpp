@@ -31,7 +31,9 @@ Railway::Railway(const track::Route& route, const track::Layout& layout,
   for (const track::Block& b : route.blocks)
     if (b.type == track::BlockType::kBridge || b.type == track::BlockType::kTunnel ||
         b.type == track::BlockType::kStation)
-      structures_.push_back({b.type, b.id, b.chainage_begin_m, b.chainage_end_m});
+      structures_.push_back({b.type, b.id, b.chainage_begin_m, b.chainage_end_m,
+                             frame(0, b.chainage_begin_m).position.head<2>(),
+                             frame(0, b.chainage_end_m).position.head<2>()});
 }
 
 std::vector<Stretch> Railway::stretchesNear(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,

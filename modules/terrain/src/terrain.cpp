@@ -238,8 +238,8 @@ void Terrain::fill(Field& f) const {
   for (const Structure& s : railway_->structures()) {
     if (s.type != track::BlockType::kBridge)
       continue;
-    const Eigen::Vector2d a = railway_->frame(0, s.chainage_begin_m).position.head<2>();
-    const Eigen::Vector2d b = railway_->frame(0, s.chainage_end_m).position.head<2>();
+    const Eigen::Vector2d& a = s.begin_xy;
+    const Eigen::Vector2d& b = s.end_xy;
     const double length = (b - a).norm();
     if (length <= 0.0)
       continue;

@@ -3,12 +3,14 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "trainsim/core/geodesy.hpp"
 #include "trainsim/scene/scene.hpp"
 #include "trainsim/terrain/railway.hpp"
 #include "trainsim/terrain/terrain.hpp"
@@ -140,6 +142,7 @@ class Environment {
   std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
   std::shared_ptr<const scene::Mesh> signal_;
   std::array<std::vector<CatenarySupport>, 2> supports_;
+  std::optional<GeodeticAnchor> anchor_;  // the Earth the track was laid on, if it was
 };
 
 /// The 60E1 rail cross-section as a closed polygon (a, z) in m: a across the rail (positive

@@ -16,11 +16,14 @@ struct Stretch {
 };
 
 /// A main-track structure the terrain and the assets shape themselves around: a bridge, a
-/// tunnel or a station, with its chainage range on the main track.
+/// tunnel or a station, with its chainage range on the main track and where the main track is
+/// at either end (plan view, shifted): worked out once, so that a tile can tell whether the
+/// structure is near without asking the track.
 struct Structure {
   track::BlockType type = track::BlockType::kStraight;
   int block_id = 0;
   double chainage_begin_m = 0.0, chainage_end_m = 0.0;
+  Eigen::Vector2d begin_xy = Eigen::Vector2d::Zero(), end_xy = Eigen::Vector2d::Zero();
 };
 
 /// What the environment needs to know of the railway, with a coarse spatial index: the plan
@@ -47,6 +50,8 @@ class Railway {
   const track::Route& route() const { return route_; }
   const track::Track& main() const { return route_.track; }
   const track::Layout& layout() const { return layout_; }
+  /// How far everything the railway returns is moved from where the plan put it.
+  const Eigen::Vector3d& shift() const { return shift_; }
   /// Bridges, tunnels and stations of the main track, in chainage order.
   const std::vector<Structure>& structures() const { return structures_; }
   /// Every run's plan box (for deciding which tiles exist).
