@@ -129,6 +129,31 @@ TEST(Scene, AStreamHoldsAtMostItsCapacityAndAWindowOnlyNearTiles) {
   EXPECT_GT(stream->made(), 30);  // tiles were dropped and made along the way
 }
 
+TEST(Scene, ATilesLevelFrameIsTheEarthsLocalLevelAtItsOrigin) {
+  // The tile's level frame (what a ray caster builds its BVH in) comes from GeographicLib at the
+  // tile's origin; the reference is the track's own local up, integrated along the ellipsoid by
+  // EarthPlacement, at a track point in the tile (the two differ by the curvature between
+  // them: at most a tile's diagonal over the Earth's radius, 3e-5 rad).
+  const World& w = defaultWorld();
+  auto stream = w.env().stream(4);
+  const auto& main = w.railway().main();
+  ASSERT_NE(main.earth(), nullptr);
+  double farthest_tilt = 0.0;
+  for (double x = 0.0; x < main.length(); x += 250.0) {
+    const track::EarthPlacement::Point e = main.earth()->at(main.horizontal(), main.vertical(), x);
+    const Eigen::Vector3d p = w.railway().frame(0, x).position;
+    const scene::SceneWindow win = stream->window(p, 0.0);
+    ASSERT_EQ(win.tiles.size(), 1u) << x;
+    const Eigen::Matrix3d& level = win.tiles[0]->level;
+    EXPECT_LT((level.transpose() * level - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(level.determinant(), 1.0, 1e-12);
+    EXPECT_LT(std::acos(std::min(1.0, level.col(2).dot(e.up))), 4e-5) << x;
+    farthest_tilt = std::max(farthest_tilt, std::acos(level(2, 2)));
+  }
+  // 6 km out the ground is tilted 0.9 mrad against the world's axes.
+  EXPECT_NEAR(farthest_tilt, main.length() / 6.371e6, 2e-4);
+}
+
 TEST(Scene, ARailwayAThousandKilometresOutKeepsItsVerticesToAMillimetre) {
   // Noise and objects are keyed by absolute position (so they differ 1000 km away): switched
   // off here, the rest of the scene must come out identical up to the shift.

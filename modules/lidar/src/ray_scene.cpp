@@ -8,6 +8,7 @@
 #include <pmmintrin.h>
 #include <tbb/task_arena.h>
 #include <xmmintrin.h>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -60,17 +61,21 @@ struct SceneHandle {
   }
 };
 
+// Where the Earth's curvature tilts a tile's ground more than this against world axes (rad),
+// the tile's BVH is built in its level axes (RayWorld's buildTile).
+constexpr double kLevelTilt = 1e-3;
+
 // Adds `mesh` to `scene` as one triangle geometry, each vertex v placed at offset + linear · v.
 // Gives `g` the mesh's vertices, placed by `linear` then `offset` (summed in double).
 void setVertices(RTCGeometry g, const scene::Mesh& mesh, const Eigen::Vector3d& offset,
-                 const Eigen::Matrix3f& linear) {
+                 const Eigen::Matrix3f& linear, const Eigen::Matrix3d& level) {
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
-  const bool identity = linear.isIdentity(0.0f);
+  const bool identity = linear.isIdentity(0.0f), level_identity = level.isIdentity(0.0);
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d p =
-        offset +
+    const Eigen::Vector3d q =
         (identity ? mesh.vertices[i] : Eigen::Vector3f(linear * mesh.vertices[i])).cast<double>();
+    const Eigen::Vector3d p = offset + (level_identity ? q : Eigen::Vector3d(level * q));
     v[3 * i] = static_cast<float>(p.x());
     v[3 * i + 1] = static_cast<float>(p.y());
     v[3 * i + 2] = static_cast<float>(p.z());
@@ -78,9 +83,10 @@ void setVertices(RTCGeometry g, const scene::Mesh& mesh, const Eigen::Vector3d& 
 }
 
 void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
-                  const Eigen::Vector3d& offset, const Eigen::Matrix3f& linear) {
+                  const Eigen::Vector3d& offset, const Eigen::Matrix3f& linear,
+                  const Eigen::Matrix3d& level = Eigen::Matrix3d::Identity()) {
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  setVertices(g, mesh, offset, linear);
+  setVertices(g, mesh, offset, linear, level);
   auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
@@ -95,13 +101,13 @@ void addTriangles(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
 // triangles; Embree splits each cell along the diagonal the mesh's triangles use. A hit's primID
 // is the grid's (0), so it takes the mesh's only part.
 void addGrid(RTCDevice device, RTCScene scene, const scene::Mesh& mesh,
-             const Eigen::Vector3d& offset) {
+             const Eigen::Vector3d& offset, const Eigen::Matrix3d& level) {
   const std::size_t n = mesh.vertices.size(), width = mesh.grid_columns;
   if (width < 2 || n % width != 0 || n / width < 2 || width > 32767 || n / width > 32767 ||
       mesh.parts.size() != 1)
     throw RuntimeError("Embree grid: a height field must be 2..32767 vertices a side, one part");
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_GRID);
-  setVertices(g, mesh, offset, Eigen::Matrix3f::Identity());
+  setVertices(g, mesh, offset, Eigen::Matrix3f::Identity(), level);
   auto* grid = static_cast<RTCGrid*>(
       rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid), 1));
   grid->startVertexID = 0;
@@ -205,10 +211,14 @@ void wireIntersect(const RTCIntersectFunctionNArguments* args) {
   }
 }
 
-// Adds `wire` to `scene` as a user geometry of exact capsules; `data` keeps its points.
-void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire, WireData& data) {
+// Adds `wire` to `scene` as a user geometry of exact capsules, its points turned by `level`;
+// `data` keeps them.
+void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire,
+             const Eigen::Matrix3d& level, WireData& data) {
+  const bool identity = level.isIdentity(0.0);
   for (const Eigen::Vector3f& p : wire.points)
-    data.points.push_back(p.cast<double>());
+    data.points.push_back(identity ? Eigen::Vector3d(p.cast<double>())
+                                   : Eigen::Vector3d(level * p.cast<double>()));
   data.radius = wire.radius_m;
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(wire.points.size() - 1));
@@ -246,9 +256,10 @@ RTCScene newStaticScene(RTCDevice device) {
 // flattening also its objects), relative to the tile's origin.
 struct TileBvh {
   std::shared_ptr<const scene::Tile> tile;
-  std::vector<std::unique_ptr<WireData>> wires;  // the user geometries' data
-  SceneHandle handle;                            // released before the wires' data
-  std::vector<GeomInfo> geoms;                   // by geomID
+  std::vector<std::unique_ptr<WireData>> wires;         // the user geometries' data
+  SceneHandle handle;                                   // released before the wires' data
+  std::vector<GeomInfo> geoms;                          // by geomID
+  Eigen::Matrix3f level = Eigen::Matrix3f::Identity();  // the BVH's axes to world axes
 };
 
 // A shared prototype's mesh, relative to its foot.
@@ -454,20 +465,36 @@ struct RayWorld::Impl {
     bvh->tile = tile;
     RTCDevice d = device.get();
     bvh->handle.scene = newStaticScene(d);
+    // The BVH in axes whose z is the tile's up where the Earth's curvature tilts its ground more
+    // than kLevelTilt against world axes (6.4 km from the scenario's origin): there Embree's
+    // boxes around flat ground would be as thick as the tilt makes it (a frame 1000 km out took
+    // 1.19 × the time). The least rotation that levels it: turning the axes about up as well
+    // (the local east and north, some degrees off world x and y far out) would set the track
+    // and the tile's own edges askew to the boxes. Nearer, world axes (no rotation, no normal
+    // to turn back).
+    const Eigen::Vector3d up = tile->level.col(2);
+    const Eigen::Matrix3d to_level =
+        std::acos(std::clamp(up.z(), -1.0, 1.0)) > kLevelTilt
+            ? Eigen::Matrix3d(Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()))
+            : Eigen::Matrix3d::Identity();
+    const bool level = to_level.isIdentity(0.0);
+    bvh->level = to_level.transpose().cast<float>();
     for (const scene::Object& o : tile->objects) {
       if (options.instance_objects && sharedMesh(o))
         continue;
+      const Eigen::Vector3d offset = level ? Eigen::Vector3d(o.position - tile->origin)
+                                           : to_level * (o.position - tile->origin);
       if (options.terrain_grids && o.mesh->grid_columns > 0 && o.linear.isIdentity(0.0f))
-        addGrid(d, bvh->handle.scene, *o.mesh, o.position - tile->origin);
+        addGrid(d, bvh->handle.scene, *o.mesh, offset, to_level);
       else
-        addTriangles(d, bvh->handle.scene, *o.mesh, o.position - tile->origin, o.linear);
+        addTriangles(d, bvh->handle.scene, *o.mesh, offset, o.linear, to_level);
       bvh->geoms.push_back({o.mesh.get(), 0, 0, o.instance});
     }
     for (const scene::Wire& w : tile->wires) {
       if (w.points.size() < 2)
         continue;
       bvh->wires.push_back(std::make_unique<WireData>());
-      addWire(d, bvh->handle.scene, w, *bvh->wires.back());
+      addWire(d, bvh->handle.scene, w, to_level, *bvh->wires.back());
       bvh->geoms.push_back({nullptr, w.cls, w.material, w.instance});
     }
     commit(bvh->handle.scene);
@@ -569,8 +596,7 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
   };
   for (const auto& t : tiles) {
     auto bvh = w.tile(t);
-    attach(bvh->handle.scene, Eigen::Matrix3f::Identity(), t->origin,
-           {bvh, nullptr, 0, {}, false, {}});
+    attach(bvh->handle.scene, bvh->level, t->origin, {bvh, nullptr, 0, {}, false, {}});
     if (!w.options.instance_objects)
       continue;
     for (const scene::Object& o : t->objects)
