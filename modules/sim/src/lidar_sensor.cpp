@@ -127,7 +127,7 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.integer("columns", &C::columns, "",
               "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
               "HDL-64E at 10 Hz), 2048 for uniform")
-        .range(0, 100000);
+        .range(0, 65535);
     b.object("uniform", &C::uniform, uniform, "The uniform pattern (model \"uniform\")");
     b.number("range_min_m", &C::range_min_m, kM, "Shortest range; 0: the device's").range(0, 100);
     b.number("range_max_m", &C::range_max_m, kM, "Longest range; 0: the device's").range(0, 2000);
