@@ -165,6 +165,7 @@ INSTANTIATE_TEST_SUITE_P(NearAndFar, RaySceneAt, ::testing::Values(0.0, 1.0e6));
 TEST(RayScene, InstancedPrototypesCarryTheirObjectsLabelsAndTransform) {
   const Eigen::Vector3d O(1.0e6, -3.0e5, 10.0);
   auto proto = std::make_shared<scene::Mesh>();
+  proto->prototype = true;
   proto->beginPart(scene::cls::kTrunk, scene::mat::kBark);
   scene::addCylinder(*proto, {0, 0, 0}, {0, 0, 3}, 0.3f, 0.3f, 12);
   proto->beginPart(scene::cls::kTree, scene::mat::kLeaves);
@@ -252,6 +253,50 @@ TEST(RayScene, HeightFieldsAsEmbreeGridsAreTheSameSurfaceAsTheirTriangles) {
   EXPECT_GT(hits, 1500);
   EXPECT_LT(worst, 1e-4) << "grid against triangles";
   EXPECT_LT(worst_truth, 1e-3) << "grid against the double brute force";
+}
+
+// What a ray returns is a pure function of the tiles: not of who else holds their meshes at the
+// moment. A camera keeps every mesh it has drawn; the LiDAR once took a mesh held twice for a
+// shared prototype and instanced it, so a bridge was cast in other float axes (one intensity a
+// bit apart) depending on whether the camera had drawn its tile first, i.e. on the threads.
+TEST(RayScene, WhatARayHitsDoesNotDependOnWhoElseHoldsATilesMeshes) {
+  const Eigen::Vector3d O(3.0e5, -1.0e5, 40.0);
+  scene::Mesh deck;
+  deck.beginPart(scene::cls::kBridge, scene::mat::kConcrete);
+  scene::addOrientedBox(deck, {20.0f, 3.0f, 1.0f}, Eigen::Vector3f(14.0f, 9.0f, 0.0f),
+                        Eigen::Vector3f(-1.2f, 1.8f, 0.3f), Eigen::Vector3f(0.0f, 0.0f, 0.8f));
+  const auto tile = makeTile(O, {square({20.0, 0.0, -2.0}, Eigen::Vector3d::UnitZ(), 60.0,
+                                        scene::cls::kTerrain, scene::mat::kGrass),
+                                 deck});
+  std::vector<Ray> rays;
+  for (int i = 0; i < 3000; ++i) {
+    const double az = -0.9 + 1.4 * i / 3000.0, el = -0.25 + 0.2 * (i % 61) / 61.0;
+    const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    rays.push_back({Eigen::Vector3f(-8.0f, 2.0f, 4.0f), d.cast<float>(), 0.1f, 300.0f});
+  }
+  const auto cast = [&](std::size_t& instances) {
+    lidar::RayWorld world;
+    const auto scene = world.scene({tile});
+    std::vector<RayHit> hits(rays.size());
+    scene.intersect(rays, hits);
+    instances = scene.instanceCount();
+    return hits;
+  };
+  std::size_t alone = 0, held = 0;
+  const auto a = cast(alone);
+  const std::vector<scene::Object> camera = tile->objects;  // holds every mesh once more
+  const auto b = cast(held);
+  EXPECT_EQ(alone, 1u);  // the tile: its meshes are no prototypes
+  EXPECT_EQ(held, alone);
+  int bridge = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(a[i].hit(), b[i].hit()) << i;
+    EXPECT_EQ(a[i].range, b[i].range) << i;
+    EXPECT_EQ(a[i].normal, b[i].normal) << i;
+    EXPECT_EQ(a[i].cls, b[i].cls) << i;
+    bridge += a[i].cls == scene::cls::kBridge;
+  }
+  EXPECT_GT(bridge, 300);
 }
 
 }  // namespace

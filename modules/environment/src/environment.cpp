@@ -25,10 +25,14 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
                                   : scene::mat::kSoil;
   for (const ObjectKind& kind : objectKinds()) {
     prototypes_.emplace_back();
-    for (int v = 0; v < kind.variants; ++v)
-      prototypes_.back().push_back(std::make_shared<const scene::Mesh>(kind.prototype(seed, v)));
+    for (int v = 0; v < kind.variants; ++v) {
+      scene::Mesh mesh = kind.prototype(seed, v);
+      mesh.prototype = true;
+      prototypes_.back().push_back(std::make_shared<const scene::Mesh>(std::move(mesh)));
+    }
   }
   auto signal = std::make_shared<scene::Mesh>();
+  signal->prototype = true;
   signal->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
   scene::addCylinder(*signal, {0, 0, -0.3f}, {0, 0, 4.6f}, 0.07f, 0.07f, 8);
   signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);

@@ -1,6 +1,6 @@
 // The Embree side of the LiDAR: tile and prototype BVHs, the per-frame top-level scene, and
 // packet traversal. Embree 3.13 as Debian builds it: ray masks on (every ray sets mask = ~0),
-// one instance level, TBB tasking (commits share the run's TBB workers).
+// one instance level, TBB tasking (commits run in a build arena of their own, of fixed size).
 #include "trainsim/lidar/ray_scene.hpp"
 
 #include <embree3/rtcore.h>
@@ -231,14 +231,21 @@ void addWire(RTCDevice device, RTCScene scene, const scene::Wire& wire,
 }
 
 bool sharedMesh(const scene::Object& o) {
-  return o.mesh.use_count() > 1;
+  return o.mesh->prototype;
 }
 
-// Builds a scene's BVH. Embree builds with TBB tasks; the build runs under the world's lock,
-// so while it waits this thread must not pick up another frame's task that would ask for the
-// lock again: the build is isolated.
-void commit(RTCScene scene) {
-  tbb::this_task_arena::isolate([&] { rtcCommitScene(scene); });
+// Threads a BVH build is cut up for, whatever the run has. Embree cuts each partition and
+// reduction of a build into as many tasks as the calling TBB arena has threads, so the order
+// primitives land in within the leaves can follow the thread count, and with it which of two
+// triangles at the same distance (an edge) a ray returns. In an arena of a fixed size a BVH is
+// the same on any machine and for any --threads.
+constexpr int kBuildThreads = 2;
+
+// Builds a scene's BVH in the world's build arena. The build runs under the world's lock; in
+// that arena, waiting on the build, this thread can pick up only the build's own tasks, never
+// another frame's that would ask for the lock again.
+void commit(RTCScene scene, tbb::task_arena& arena) {
+  arena.execute([&] { rtcCommitScene(scene); });
 }
 
 // A scene built once and cast into many times: high-quality BVH, robust traversal (no ray slips
@@ -439,6 +446,7 @@ struct RayWorld::Impl {
   std::shared_ptr<RTCDeviceTy> device;
   std::atomic<std::int64_t> bytes{0};  // Embree's memory monitor
   std::mutex mutex;
+  tbb::task_arena builds{kBuildThreads};  // every commit, under the lock
   std::map<scene::TileIndex, std::shared_ptr<const TileBvh>> tiles;
   std::deque<std::vector<scene::TileIndex>> recent;  // the tiles of the last scenes, newest last
   std::map<const scene::Mesh*, std::shared_ptr<const ProtoBvh>> protos;
@@ -497,7 +505,7 @@ struct RayWorld::Impl {
       addWire(d, bvh->handle.scene, w, to_level, *bvh->wires.back());
       bvh->geoms.push_back({nullptr, w.cls, w.material, w.instance});
     }
-    commit(bvh->handle.scene);
+    commit(bvh->handle.scene, builds);
     check(d, "building a tile's BVH");
     return bvh;
   }
@@ -519,7 +527,7 @@ struct RayWorld::Impl {
     RTCDevice d = device.get();
     bvh->handle.scene = newStaticScene(d);
     addTriangles(d, bvh->handle.scene, *mesh, Eigen::Vector3d::Zero(), Eigen::Matrix3f::Identity());
-    commit(bvh->handle.scene);
+    commit(bvh->handle.scene, builds);
     check(d, "building a prototype's BVH");
     protos.emplace(mesh.get(), bvh);
     return bvh;
@@ -606,7 +614,7 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
                {nullptr, proto, o.instance, {}, false, {}});
       }
   }
-  commit(s->top.scene);
+  commit(s->top.scene, w.builds);
   check(d, "building the frame's top-level scene");
   w.last = s;
   w.forget(key);

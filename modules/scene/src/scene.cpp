@@ -42,9 +42,9 @@ std::size_t Tile::bytes() const {
       sizeof(Tile) + objects.capacity() * sizeof(Object) + wires.capacity() * sizeof(Wire);
   for (const auto& wire : wires)
     total += wire.points.capacity() * sizeof(Eigen::Vector3f);
-  // A mesh used by this tile alone (its terrain, rails, ballast) belongs to it.
+  // A mesh that is not a shared prototype (its terrain, rails, ballast) belongs to the tile.
   for (const auto& object : objects)
-    if (object.mesh.use_count() == 1)
+    if (!object.mesh->prototype)
       total += object.mesh->bytes();
   return total;
 }

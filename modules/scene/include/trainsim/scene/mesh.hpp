@@ -50,6 +50,12 @@ struct Mesh {
   /// cell split along its (x+1, y)–(x, y+1) diagonal, one part (the full-resolution terrain).
   /// The LiDAR may hand it to Embree as grid geometry (RayWorldOptions::terrain_grids).
   std::uint32_t grid_columns = 0;
+  /// A prototype placed by many objects (a tree, a signal): a ray caster builds its BVH once and
+  /// instances it. Any other mesh (a tile's terrain, rails, a bridge) belongs to one object and
+  /// goes into its tile's BVH. Set by whoever makes the mesh, never read off how many hold it at
+  /// the moment: that depends on which thread got there first (a camera holding a tile's bridge
+  /// made the LiDAR instance it, and a 1-thread run's intensities differ in the last bit).
+  bool prototype = false;
 
   /// Starts a part: the triangles added from now on carry (cls, material) until the next part.
   void beginPart(ClassId cls, MaterialId material);
