@@ -1,11 +1,14 @@
 // Track assets and trackside objects over a whole generated route: the rail gauge and cant
 // measured on the meshes, the catenary against the track frames, clearance of masts, signals
-// and fences, object footprints checked pairwise and against every track, placement order.
+// and fences, what stands upright along the local vertical, object footprints checked pairwise
+// and against every track, placement order.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 #include <set>
+
+#include <Eigen/Eigenvalues>
 
 #include "unit/environment_world.hpp"
 
@@ -188,6 +191,56 @@ TEST(Objects, PlacementDoesNotDependOnWhichTilesWereMadeFirst) {
     EXPECT_EQ(a[k].instance, b[k].instance);
     EXPECT_EQ(a[k].position, b[k].position);
   }
+}
+
+TEST(Assets, UprightThingsStandAlongTheEarthsLocalVerticalNotWorldZ) {
+  // World z is up only at the scenario's origin: at the default route's far end the Earth's
+  // vertical is tilted 0.9 mrad against it (9° 1000 km out). Trees, rocks, buildings and signals
+  // (their placement's z axis), masts and fence posts (the long axis of their boxes, by
+  // principal components) must follow the tile's level frame, checked on every tile tilted by
+  // more than 0.4 mrad, twenty times the bound.
+  constexpr double kBound = 2e-5;
+  const auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::atan2(a.cross(b).norm(), std::abs(a.dot(b)));
+  };
+  const auto longAxis = [](const scene::Object& o, std::uint32_t first) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (std::uint32_t v = first; v < first + 24; ++v)
+      mean += o.worldVertex(v) / 24.0;
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (std::uint32_t v = first; v < first + 24; ++v)
+      covariance += (o.worldVertex(v) - mean) * (o.worldVertex(v) - mean).transpose();
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors().col(2).eval();
+  };
+  std::map<std::string, std::size_t> checked;
+  for (const auto& tile : allTiles()) {
+    const Eigen::Vector3d up = tile->level.col(2);
+    if (angle(up, Eigen::Vector3d::UnitZ()) < 20 * kBound)
+      continue;
+    for (const auto& o : tile->objects) {
+      if (o.mesh->prototype) {
+        const Eigen::Matrix3d linear = o.linear.cast<double>();
+        EXPECT_LT(angle(linear.col(2), up), kBound) << o.instance;
+        EXPECT_LT(std::abs(linear.col(0).normalized().dot(up)), kBound) << o.instance;
+        ++checked["placed objects"];
+        continue;
+      }
+      if (scene::instanceSource(o.instance) != scene::InstanceSource::kTrackAsset)
+        continue;
+      const int kind = static_cast<int>((o.instance >> 36) & 0xFF);
+      if (kind == 3 && o.mesh->vertices.size() > 24) {  // a mast: its box first (not in tunnels)
+        EXPECT_LT(angle(longAxis(o, 0), up), kBound) << o.instance;
+        ++checked["masts"];
+      }
+      if (kind == 11)  // fence posts, a box of 24 vertices each
+        for (std::uint32_t first = 0; first + 24 <= o.mesh->vertices.size(); first += 24) {
+          EXPECT_LT(angle(longAxis(o, first), up), kBound) << o.instance;
+          ++checked["fence posts"];
+        }
+    }
+  }
+  for (const char* what : {"placed objects", "masts", "fence posts"})
+    EXPECT_GT(checked[what], 10u) << what;
 }
 
 TEST(Assets, MastsSignalsAndFencesStayOutOfEveryTracksClearanceGauge) {

@@ -142,6 +142,10 @@ void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FrameP
     }
 }
 
+Eigen::Vector3d TileContext::ground(const Eigen::Vector3d& p) const {
+  return {p.x(), p.y(), env.terrain().heightAt(p.x(), p.y())};
+}
+
 std::vector<std::pair<double, double>> mainChainagesNear(const TileContext& ctx, double reach,
                                                          int track) {
   std::vector<std::pair<double, double>> out;
@@ -403,41 +407,38 @@ void addCatenary(TileContext& ctx) {
       const Eigen::Vector3d rb = fb.position + A.contact_height_m * fb.up + sb.stagger_m * fb.left;
       if (!ctx.owns(ra))
         continue;  // a span belongs to the tile of its first support
-      // Mast beside the outermost track on its side, standing vertical.
+      // Mast beside the outermost track on its side, standing vertical. Heights are along the
+      // vertical from `base`, the mast's plan position at the track's level.
       const track::TrackFrame fm = railway.frame(0, sa.x_m);
       const auto [left, right] = outermostOffsets(layout, sa.x_m);
       const double lateral = side > 0 ? left + A.mast_offset_m : right - A.mast_offset_m;
-      Eigen::Vector3d horizontal_left(fm.left.x(), fm.left.y(), 0.0);
-      horizontal_left.normalize();
-      const Eigen::Vector3d foot_xy = fm.position + lateral * horizontal_left;
-      const double top_z = fa.position.z() + A.mast_height_m;
-      const double support_z = ra.z() + A.system_height_m;
+      const Eigen::Matrix3d axes = ctx.upright(fm.tangent);
+      const Eigen::Vector3d up = axes.col(2);
+      const Eigen::Vector3d base = fm.position + lateral * axes.col(1);
+      const double top = ctx.heightOver(fa.position, base) + A.mast_height_m;
+      const double wire = ctx.heightOver(ra, base);  // the contact wire at the support
       auto mast = std::make_shared<scene::Mesh>();
       mast->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
       if (!sa.tunnel) {
-        const double foot_z = sa.bridge
-                                  ? fm.position.z() - formation
-                                  : std::min(fm.position.z() - formation,
-                                             ctx.env.terrain().heightAt(foot_xy.x(), foot_xy.y())) -
-                                        0.3;
-        const Eigen::Vector3d foot(foot_xy.x(), foot_xy.y(), foot_z);
-        const Eigen::Vector3d top(foot_xy.x(), foot_xy.y(), top_z);
-        const Eigen::Vector3f t = (0.15 * fm.tangent).cast<float>();
-        const Eigen::Vector3f l = (0.15 * horizontal_left).cast<float>();
-        scene::addOrientedBox(*mast, ctx.local(0.5 * (foot + top)), t, l,
-                              Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top_z - foot_z))));
+        const double foot =
+            (sa.bridge ? -formation
+                       : std::min(-formation, ctx.heightOver(ctx.ground(base), base))) -
+            0.3;
+        scene::addOrientedBox(
+            *mast, ctx.local(base + 0.5 * (foot + top) * up), (0.15 * axes.col(0)).cast<float>(),
+            (0.15 * axes.col(1)).cast<float>(), (0.5 * (top - foot) * up).cast<float>());
         // Cantilever (messenger support) and registration arm out to the contact wire.
-        const Eigen::Vector3d arm_root(foot_xy.x(), foot_xy.y(), support_z);
-        const Eigen::Vector3d over(ra.x(), ra.y(), support_z);
-        scene::addCylinder(*mast, ctx.local(arm_root), ctx.local(over), 0.04f, 0.04f, 6);
-        const Eigen::Vector3d brace_root(foot_xy.x(), foot_xy.y(), ra.z() - 0.4);
-        scene::addCylinder(*mast, ctx.local(brace_root), ctx.local(ra), 0.03f, 0.03f, 6);
+        const double support = wire + A.system_height_m;
+        scene::addCylinder(*mast, ctx.local(base + support * up),
+                           ctx.local(ra + A.system_height_m * up), 0.04f, 0.04f, 6);
+        scene::addCylinder(*mast, ctx.local(base + (wire - 0.4) * up), ctx.local(ra), 0.03f, 0.03f,
+                           6);
       } else {
         // In tunnels the supports hang from the crown.
-        const Eigen::Vector3d crown(ra.x(), ra.y(),
-                                    fa.position.z() + ctx.env.params().terrain.tunnel_crown_m);
-        scene::addCylinder(*mast, ctx.local(Eigen::Vector3d(ra.x(), ra.y(), support_z)),
-                           ctx.local(crown), 0.04f, 0.04f, 6);
+        const double crown =
+            ctx.heightOver(fa.position, ra) + ctx.env.params().terrain.tunnel_crown_m;
+        scene::addCylinder(*mast, ctx.local(ra + A.system_height_m * up),
+                           ctx.local(ra + crown * up), 0.04f, 0.04f, 6);
       }
       ctx.tile.objects.push_back(
           scene::Object::place(mast, ctx.origin, Eigen::Matrix3f::Identity(),
@@ -461,7 +462,7 @@ void addCatenary(TileContext& ctx) {
         const double tau = static_cast<double>(j) / drops;
         const Eigen::Vector3d on_contact = ra + tau * (rb - ra);
         const Eigen::Vector3d on_messenger =
-            on_contact + Eigen::Vector3d(0, 0, A.system_height_m - 4.0 * sag * tau * (1.0 - tau));
+            on_contact + (A.system_height_m - 4.0 * sag * tau * (1.0 - tau)) * ctx.up();
         messenger.points.push_back(ctx.local(on_messenger));
         if (j > 0 && j < drops)
           ctx.tile.wires.push_back({{ctx.local(on_contact), ctx.local(on_messenger)},

@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "trainsim/environment/environment.hpp"
 
 namespace trainsim::environment::detail {
@@ -42,6 +44,32 @@ struct TileContext {
     return p.x() >= lo.x() && p.x() < hi.x() && p.y() >= lo.y() && p.y() < hi.y();
   }
   Eigen::Vector3f local(const Eigen::Vector3d& p) const { return (p - origin).cast<float>(); }
+
+  // What stands upright (masts, posts, signals, piers, trees) stands along the local vertical,
+  // the Earth's up at the tile (Tile::level), not along world z: world z is up only at the
+  // scenario's origin, and the Earth's curvature tilts them apart by a milliradian every 6.4 km
+  // (9° 1000 km out).
+  /// The local vertical (world axes).
+  Eigen::Vector3d up() const { return tile.level.col(2); }
+  /// v's horizontal part, unit.
+  Eigen::Vector3d horizontal(const Eigen::Vector3d& v) const {
+    const Eigen::Vector3d u = up();
+    return (v - v.dot(u) * u).normalized();
+  }
+  /// How far p lies above q along the vertical.
+  double heightOver(const Eigen::Vector3d& p, const Eigen::Vector3d& q) const {
+    return (p - q).dot(up());
+  }
+  /// The ground at p's plan position: the terrain where world (x, y) is p's.
+  Eigen::Vector3d ground(const Eigen::Vector3d& p) const;
+  /// Upright axes facing along `direction` (its horizontal part): x ahead, z up, right-handed.
+  Eigen::Matrix3d upright(const Eigen::Vector3d& direction) const {
+    Eigen::Matrix3d axes;
+    axes.col(0) = horizontal(direction);
+    axes.col(2) = up();
+    axes.col(1) = axes.col(2).cross(axes.col(0));
+    return axes;
+  }
 };
 
 /// Runs of consecutive polyline points of `track` whose segments this tile owns (a segment

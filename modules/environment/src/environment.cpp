@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "assets.hpp"
 #include "objects.hpp"
 #include "trainsim/core/cancel.hpp"
@@ -93,12 +95,13 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,
   detail::addStructures(ctx);
   detail::addFencesAndSignals(ctx);
   throwIfCancelled();
+  // Trees, rocks and buildings stand along the local vertical (TileContext::up).
+  const Eigen::Matrix3d level = tile->level;
   for (const PlacedObject& o : objects(index, heights)) {
-    const float c = static_cast<float>(std::cos(o.yaw_rad)),
-                s = static_cast<float>(std::sin(o.yaw_rad));
-    Eigen::Matrix3f linear;
-    linear << c, -s, 0, s, c, 0, 0, 0, 1;
-    linear *= static_cast<float>(o.radius_m);
+    const Eigen::Matrix3f linear =
+        (level * Eigen::AngleAxisd(o.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+         o.radius_m)
+            .cast<float>();
     tile->objects.push_back(
         scene::Object::place(prototype(o.kind, o.variant), o.position, linear, o.instance));
   }

@@ -151,12 +151,12 @@ void addStructures(TileContext& ctx) {
             f.position + 0.5 * (l + rr) * f.left - (formation + deck) * f.up;
         if (!ctx.owns(top))
           continue;
-        const double bottom_z = top.z() - T.valley_depth_m - 3.0;
-        const Eigen::Vector3d c(top.x(), top.y(), 0.5 * (top.z() + bottom_z));
-        scene::addOrientedBox(
-            *mesh, ctx.local(c), (1.0 * f.tangent).cast<float>(),
-            (0.35 * (l - rr) * f.left).cast<float>(),
-            Eigen::Vector3f(0, 0, static_cast<float>(0.5 * (top.z() - bottom_z))));
+        const double height = T.valley_depth_m + 3.0;
+        const Eigen::Matrix3d axes = ctx.upright(f.tangent);
+        scene::addOrientedBox(*mesh, ctx.local(top - 0.5 * height * axes.col(2)),
+                              axes.col(0).cast<float>(),
+                              (0.35 * (l - rr) * axes.col(1)).cast<float>(),
+                              (0.5 * height * axes.col(2)).cast<float>());
       }
     }
     if (!mesh->triangles.empty())
@@ -200,7 +200,7 @@ void addFencesAndSignals(TileContext& ctx) {
           if (strand.size() > 1) {
             scene::Wire w{{}, 0.002f, scene::cls::kFence, scene::mat::kGalvanisedSteel, instance};
             for (const auto& p : strand)
-              w.points.push_back(ctx.local(p + Eigen::Vector3d(0, 0, h)));
+              w.points.push_back(ctx.local(p + h * ctx.up()));
             ctx.tile.wires.push_back(std::move(w));
           }
         strand.clear();
@@ -213,16 +213,16 @@ void addFencesAndSignals(TileContext& ctx) {
         const auto [l, r] = outermostOffsets(layout, x);
         const double lateral = side > 0 ? l + A.fence_offset_m : r - A.fence_offset_m;
         const track::TrackFrame f = railway.frame(0, x);
-        Eigen::Vector3d hl(f.left.x(), f.left.y(), 0.0);
-        hl.normalize();
-        Eigen::Vector3d p = f.position + lateral * hl;
+        const Eigen::Matrix3d axes = ctx.upright(f.tangent);
+        const Eigen::Vector3d p = ctx.ground(f.position + lateral * axes.col(1));
         if (!ctx.owns(p)) {
           flush();
           continue;
         }
-        p.z() = ctx.env.terrain().heightAt(p.x(), p.y());
-        scene::addBox(*posts, ctx.local(p) - Eigen::Vector3f(0.04f, 0.04f, 0.3f),
-                      ctx.local(p) + Eigen::Vector3f(0.04f, 0.04f, 1.4f));
+        // From 0.3 m in the ground to 1.4 m above it.
+        scene::addOrientedBox(
+            *posts, ctx.local(p + 0.55 * axes.col(2)), (0.04 * axes.col(0)).cast<float>(),
+            (0.04 * axes.col(1)).cast<float>(), (0.85 * axes.col(2)).cast<float>());
         strand.push_back(p);
       }
       flush();
@@ -245,19 +245,14 @@ void addFencesAndSignals(TileContext& ctx) {
       if (track_id == 1 && !has_double)
         continue;
       const track::TrackFrame f = railway.frame(0, x);
-      Eigen::Vector3d hl(f.left.x(), f.left.y(), 0.0);
-      hl.normalize();
+      const Eigen::Matrix3d axes = ctx.upright(f.tangent);  // the signal faces along the track
       const double lateral = track_id == 0 ? l + A.signal_offset_m : r - A.signal_offset_m;
-      const Eigen::Vector3d p = f.position + lateral * hl - Eigen::Vector3d(0, 0, formation);
+      const Eigen::Vector3d p = f.position + lateral * axes.col(1) - formation * axes.col(2);
       if (!ctx.owns(p))
         continue;
-      const double yaw = std::atan2(f.tangent.y(), f.tangent.x());
-      Eigen::Matrix3f rot;
-      rot << static_cast<float>(std::cos(yaw)), static_cast<float>(-std::sin(yaw)), 0.0f,
-          static_cast<float>(std::sin(yaw)), static_cast<float>(std::cos(yaw)), 0.0f, 0.0f, 0.0f,
-          1.0f;
-      ctx.tile.objects.push_back(scene::Object::place(
-          proto, p, rot, scene::trackAssetInstance(track_id, kSignal, blocks[i].id)));
+      ctx.tile.objects.push_back(
+          scene::Object::place(proto, p, axes.cast<float>(),
+                               scene::trackAssetInstance(track_id, kSignal, blocks[i].id)));
     }
   }
 }
