@@ -228,7 +228,7 @@ TEST(Assets, UprightThingsStandAlongTheEarthsLocalVerticalNotWorldZ) {
       if (scene::instanceSource(o.instance) != scene::InstanceSource::kTrackAsset)
         continue;
       const int kind = static_cast<int>((o.instance >> 36) & 0xFF);
-      if (kind == 3 && o.mesh->vertices.size() > 24) {  // a mast: its box first (not in tunnels)
+      if (kind == 3 && o.mesh->vertices.size() > 24) {  // a mast: its box first (tunnel: hanger)
         EXPECT_LT(angle(longAxis(o, 0), up), kBound) << o.instance;
         ++checked["masts"];
       }

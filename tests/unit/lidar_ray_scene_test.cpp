@@ -21,6 +21,7 @@ using lidar::Ray;
 using lidar::RayHit;
 using test::makeTile;
 using test::square;
+
 // Exact ray–triangle distance in double (Möller–Trumbore), infinity for a miss.
 double rayTriangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
                    const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
