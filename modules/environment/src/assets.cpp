@@ -415,11 +415,11 @@ void addCatenary(TileContext& ctx) {
       const Eigen::Matrix3d axes = ctx.upright(fm.tangent);
       const Eigen::Vector3d up = axes.col(2);
       const Eigen::Vector3d base = fm.position + lateral * axes.col(1);
-      const double top = ctx.heightOver(fa.position, base) + A.mast_height_m;
-      const double wire = ctx.heightOver(ra, base);  // the contact wire at the support
       auto mast = std::make_shared<scene::Mesh>();
       mast->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
       if (!sa.tunnel) {
+        const double top = ctx.heightOver(fa.position, base) + A.mast_height_m;
+        const double wire = ctx.heightOver(ra, base);  // the contact wire at the support
         const double foot =
             (sa.bridge ? -formation
                        : std::min(-formation, ctx.heightOver(ctx.ground(base), base))) -
