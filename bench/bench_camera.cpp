@@ -1,8 +1,9 @@
 // The camera's costs on the default scene: ms per frame for the colour pass with depth plus the
 // id pass (semantic and instance) at 1242 × 375 and 1920 × 1080, triangles drawn, with and
 // without frustum culling and level of detail, the image difference those cause against the full
-// scene, and frame time 1 km and 100 km along a route. Software OpenGL (Mesa llvmpipe) under a
-// private Xvfb when DISPLAY is unset.
+// scene, frame time 1 km and 100 km along a route, and the PNG encoding of each image against
+// libpng's default settings. Software OpenGL (Mesa llvmpipe) under a private Xvfb when DISPLAY
+// is unset.
 //
 //   bench_camera [--quick]   (--quick: the default scene only)
 #include <fmt/format.h>
@@ -20,6 +21,7 @@
 #include "trainsim/camera/x_display.hpp"
 #include "trainsim/core/frames.hpp"
 #include "trainsim/environment/environment.hpp"
+#include "trainsim/io/png.hpp"
 
 namespace {
 
@@ -143,6 +145,83 @@ void printRow(const std::string& name, const Stretch& s, const Stretch& base, bo
   fmt::print("\n");
 }
 
+// Encoding the images of frames every 300 m of the default route as the run does (its preset
+// per image) against libpng's default (all five filters tried per row, zlib level 6): time
+// (medians of 3) and size, summed over the frames. Lossless both ways.
+void pngTable(const World& w) {
+  const camera::Renderer renderer(options(1242, 375, Detail::kLod));
+  auto stream = w.stage->environment->stream(16);
+  const sim::Trajectory& trajectory = w.plan->trajectory();
+  struct Sum {
+    double ms = 0.0, base_ms = 0.0, bytes = 0.0, base_bytes = 0.0;
+  };
+  Sum rgb, depth, semantic, object;
+  const auto add = [](Sum& sum, const auto& encode, io::PngContent content) {
+    std::vector<double> t, b;
+    std::string out, base;
+    for (int r = 0; r < 3; ++r) {
+      auto t0 = Clock::now();
+      out = encode(content);
+      t.push_back(ms(t0));
+      t0 = Clock::now();
+      base = encode(io::PngContent::kLibpngDefault);
+      b.push_back(ms(t0));
+    }
+    sum.ms += median(t);
+    sum.base_ms += median(b);
+    sum.bytes += double(out.size());
+    sum.base_bytes += double(base.size());
+  };
+  int frames = 0;
+  TimeNs t = 0;
+  for (double x = 150.0; x < 5900.0; x += 300.0, ++frames) {
+    while (t < trajectory.endTime() && trajectory.at(t).chainage_m < x)
+      t += 10 * trajectory.samplePeriod();
+    const Eigen::Isometry3d T = cameraPose(trajectory, t);
+    const camera::CameraImages img =
+        renderer.render(stream->window(T.translation(), kDrawDistance), T, camera::Lighting());
+    // Depth in 1/256 m as KITTI's depth maps (0: nothing within 255 m), as the run writes it.
+    std::vector<std::uint16_t> mm(img.depth.size());
+    for (std::size_t i = 0; i < mm.size(); ++i)
+      mm[i] = img.depth[i] > 0.0f && img.depth[i] < 255.0f
+                  ? static_cast<std::uint16_t>(std::lround(img.depth[i] * 256.0))
+                  : 0;
+    const int W = img.width, H = img.height;
+    add(
+        rgb, [&](io::PngContent c) { return io::encodePngRgb8(W, H, img.rgb, c); },
+        io::PngContent::kImage);
+    add(
+        depth, [&](io::PngContent c) { return io::encodePngGray16(W, H, mm, c); },
+        io::PngContent::kMeasurement);
+    add(
+        semantic, [&](io::PngContent c) { return io::encodePngGray8(W, H, img.semantic, c); },
+        io::PngContent::kLabels);
+    add(
+        object, [&](io::PngContent c) { return io::encodePngGray16(W, H, img.object, c); },
+        io::PngContent::kLabels);
+  }
+  fmt::print(
+      "\nPNG encoding, 1242 x 375, {} frames: the run's preset against libpng's default\n\n"
+      "| image | preset | ms an image | default ms | time / default | size / default |\n"
+      "|---|---|---|---|---|---|\n",
+      frames);
+  Sum all;
+  for (const auto& [name, preset, s] :
+       {std::tuple{"colour (RGB 8)", "Up, level 4", rgb},
+        std::tuple{"depth (grey 16)", "Sub, level 4", depth},
+        std::tuple{"semantic (grey 8)", "Up, level 4, run-length", semantic},
+        std::tuple{"instance (grey 16)", "Up, level 4", object}}) {
+    fmt::print("| {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.3f} |\n", name, preset, s.ms / frames,
+               s.base_ms / frames, s.ms / s.base_ms, s.bytes / s.base_bytes);
+    all.ms += s.ms;
+    all.base_ms += s.base_ms;
+    all.bytes += s.bytes;
+    all.base_bytes += s.base_bytes;
+  }
+  fmt::print("| all four | | {:.1f} | {:.1f} | {:.2f} | {:.3f} |\n", all.ms / frames,
+             all.base_ms / frames, all.ms / all.base_ms, all.bytes / all.base_bytes);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -187,6 +266,7 @@ int main(int argc, char** argv) {
     printRow(fmt::format("{} x {}, culled + levels of detail (1 px)", width, height), l, base,
              true);
   }
+  pngTable(def);
   if (quick)
     return 0;
 

@@ -410,7 +410,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
                        ? static_cast<std::uint16_t>(std::min(65535L, std::lround(z * 256.0)))
                        : 0;
       }
-      out.depth_png = io::encodePngGray16(img.width, img.height, depth);
+      out.depth_png =
+          io::encodePngGray16(img.width, img.height, depth, io::PngContent::kMeasurement);
     }
     if (config_.depth_float) {
       // PFM: a text header, then rows bottom to top of little-endian float32 (scale < 0).
@@ -423,7 +424,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
                     img.depth.data() + static_cast<std::size_t>(v) * img.width, row);
     }
     if (config_.semantic)
-      out.semantic_png = io::encodePngGray8(img.width, img.height, img.semantic);
+      out.semantic_png =
+          io::encodePngGray8(img.width, img.height, img.semantic, io::PngContent::kLabels);
     if (config_.semantic_preview) {
       std::vector<std::uint8_t> rgb(3 * img.semantic.size());
       for (std::size_t i = 0; i < img.semantic.size(); ++i) {
@@ -463,8 +465,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           id = instances_->id(img.instances[img.object[i]], img.semantic[i]);
         pixels[i] = static_cast<std::uint16_t>(id);
       }
-      writer_->writeFile(file(io::DatasetLayout::instanceFolder(index_)),
-                         io::encodePngGray16(img.width, img.height, pixels));
+      writer_->writeFile(
+          file(io::DatasetLayout::instanceFolder(index_)),
+          io::encodePngGray16(img.width, img.height, pixels, io::PngContent::kLabels));
     }
     csv_->write(fmt::format("{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
                             f.images.objects, f.images.triangles));

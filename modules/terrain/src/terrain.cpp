@@ -442,7 +442,8 @@ void writeHeightPng(const TerrainTile& tile, const std::filesystem::path& png) {
       pixels[static_cast<std::size_t>(tile.n - 1 - r) * tile.n + c] =
           static_cast<std::uint16_t>(std::clamp(v, 0.0, 65535.0));
     }
-  io::writeFileAtomic(png, io::encodePngGray16(tile.n, tile.n, pixels));
+  io::writeFileAtomic(png,
+                      io::encodePngGray16(tile.n, tile.n, pixels, io::PngContent::kMeasurement));
   nlohmann::json meta = {
       {"tile", {tile.index.i, tile.index.j}},
       {"size", tile.n},
