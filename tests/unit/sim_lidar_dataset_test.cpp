@@ -405,6 +405,69 @@ TEST(LidarDataset, ALidarInsideTheTrainsBodyIsAProblemNamingItsMount) {
   EXPECT_TRUE(scenarioSchema().resolve(input).problems.empty());
 }
 
+TEST(LidarDataset, LimitsThatLeaveNoRangeOrOverlapFiringsAreProblemsNamingTheField) {
+  const auto problemsOf = [](const scenario::Json& lidar) {
+    scenario::Json input = lidarScenario();
+    for (const auto& [k, v] : lidar.items())
+      input["sensors"]["lidars"][0][k] = v;
+    return scenarioSchema().resolve(input).problems;
+  };
+  // 0 stands for the device's limit (VLP-16: 0.9 ... 100 m): set against it, no range is left.
+  for (const auto& [lidar, field] :
+       {std::pair{scenario::Json{{"range_max_m", 0.5}}, "range_max_m"},
+        std::pair{scenario::Json{{"range_min_m", 100.0}}, "range_min_m"},
+        std::pair{scenario::Json{{"range_min_m", 50.0}, {"range_max_m", 40.0}}, "range_min_m"},
+        // 4000 columns at the default 10 Hz are 25 us each; the VLP-16 fires for 55.296 us (1808
+        // fit).
+        std::pair{scenario::Json{{"columns", 4000}}, "columns"},
+        std::pair{scenario::Json{{"range_sigma_m", -0.5}}, "range_sigma_m"}}) {
+    const auto problems = problemsOf(lidar);
+    ASSERT_EQ(problems.size(), 1u) << lidar.dump();
+    EXPECT_EQ(problems[0].path, std::string("sensors.lidars[0].") + field) << lidar.dump();
+  }
+  EXPECT_NE(problemsOf({{"columns", 4000}})[0].message.find("1808"), std::string::npos);
+  for (const scenario::Json& fine :
+       {scenario::Json{{"range_min_m", 0.5}}, scenario::Json{{"range_max_m", 1.0}},
+        scenario::Json{{"columns", 1808}}, scenario::Json{{"range_sigma_m", -1}}})
+    EXPECT_TRUE(problemsOf(fine).empty()) << fine.dump();
+}
+
+TEST(LidarDataset, RangeNoiseDefaultsToTheDevicesDatasheetValue) {
+  // A VLP-16 (datasheet 3 cm, 1 sigma) with no range_sigma_m on a train standing still: two
+  // scans of the same scene from the same pose, so each firing's two ranges differ by the noise
+  // alone, with sigma 0.03 * sqrt(2).
+  const scenario::Json input = {
+      {"seed", 5},
+      {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
+      {"layout", {{"double_track", false}}},
+      {"trajectory", {{"static_only", true}, {"standstill_start_s", 2}}},
+      {"dataset", {{"frame_period_ns", 1'000'000'000}}},
+      {"sensors", {{"lidars", {{{"model", "vlp16"}, {"period_ns", 1'000'000'000}}}}}}};
+  const fs::path out =
+      fs::temp_directory_path() / fmt::format("trainsim_lidar_sigma_{}", ::getpid());
+  fs::remove_all(out);
+  GenerateOptions options;
+  options.out = out;
+  generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+  const fs::path seq = out / "sequences" / "00" / "point_info";
+  std::map<std::pair<std::uint16_t, float>, float> first;  // (ring, firing time) -> range
+  for (const PointInfo& p : readPointInfo(seq / "000000.bin"))
+    first[{p.ring, p.time_s}] = p.range_m;
+  double sum = 0.0, sum2 = 0.0;
+  std::size_t n = 0;
+  for (const PointInfo& p : readPointInfo(seq / "000001.bin"))
+    if (const auto it = first.find({p.ring, p.time_s}); it != first.end()) {
+      const double e = double(p.range_m) - double(it->second);
+      sum += e;
+      sum2 += e * e;
+      ++n;
+    }
+  fs::remove_all(out);
+  ASSERT_GT(n, 10'000u);
+  const double sigma = std::sqrt((sum2 / n - (sum / n) * (sum / n)) / 2.0);
+  EXPECT_NEAR(sigma, 0.03, 0.03 * 0.03) << n << " firings";
+}
+
 // The mount, from the scenario's numbers: the LiDAR's pose in body axes.
 Eigen::Isometry3d bodyFromVelodyne() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -534,12 +597,26 @@ TEST(LidarDataset, PclReadsThePcdFilesAsTheKittiFiles) {
     pcl::PointCloud<pcl::PointXYZL> xyzl;
     pcl::fromPCLPointCloud2(cloud, xyzi);
     pcl::fromPCLPointCloud2(cloud, xyzl);
+    // The ring as Velodyne's ROS driver numbers it (LeGO-LOAM takes its ground rows from ring
+    // 0 up): 0 the lowest laser, where point_info counts from the highest as KITTI's order does.
+    constexpr int kVlp16Lasers = 16;
+    std::map<int, std::pair<double, int>> elevation;  // PCD ring -> sum of elevations, count
     for (std::size_t i = 0; i < kitti.size(); ++i) {
       ASSERT_EQ(xyzi[i].getVector3fMap(), kitti[i].xyz) << pcd << " point " << i;
       ASSERT_EQ(xyzi[i].intensity, kitti[i].intensity);
       ASSERT_EQ(xyzl[i].label, labels[i]);
-      ASSERT_EQ(pclField<std::uint16_t>(cloud, "ring", i), info[i].ring);
+      const int ring = pclField<std::uint16_t>(cloud, "ring", i);
+      ASSERT_EQ(ring, kVlp16Lasers - 1 - info[i].ring);
       ASSERT_EQ(pclField<float>(cloud, "time", i), info[i].time_s);
+      const Eigen::Vector3d p = kitti[i].xyz.cast<double>();
+      elevation[ring].first += std::atan2(p.z(), p.head<2>().norm());
+      ++elevation[ring].second;
+    }
+    double below = -M_PI;
+    for (const auto& [ring, sum] : elevation) {
+      const double mean = sum.first / sum.second;
+      EXPECT_GT(mean, below) << "ring " << ring << ", frame " << f;
+      below = mean;
     }
   }
 }

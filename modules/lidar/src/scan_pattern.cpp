@@ -18,29 +18,23 @@ extern const std::string_view lidars_json;
 namespace lidar {
 namespace {
 
-struct Preset {
-  ScanPattern pattern;
-  double firing_period_s = 0.0;
-};
-
-const std::vector<Preset>& presets() {
-  static const std::vector<Preset> table = [] {
-    std::vector<Preset> out;
+const std::vector<ScanPattern>& presets() {
+  static const std::vector<ScanPattern> table = [] {
+    std::vector<ScanPattern> out;
     const auto doc = nlohmann::json::parse(embedded::lidars_json);
     for (const auto& p : doc.at("presets")) {
-      Preset preset;
-      ScanPattern& s = preset.pattern;
+      ScanPattern s;
       s.name = p.at("name").get<std::string>();
       s.rotation_hz = p.at("rotation_hz").get<double>();
       s.range_min_m = p.at("range_min_m").get<double>();
       s.range_max_m = p.at("range_max_m").get<double>();
       s.range_sigma_m = p.at("range_sigma_m").get<double>();
-      preset.firing_period_s = p.at("firing_period_us").get<double>() * 1e-6;
+      s.firing_period_s = p.at("firing_period_us").get<double>() * 1e-6;
       for (const auto& l : p.at("lasers"))
         s.lasers.push_back(
             {l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>() * 1e-6, 0});
       s.assignRings();
-      out.push_back(std::move(preset));
+      out.push_back(std::move(s));
     }
     return out;
   }();
@@ -75,21 +69,21 @@ void ScanPattern::assignRings() {
 
 std::vector<std::string> presetNames() {
   std::vector<std::string> out;
-  for (const Preset& p : presets())
-    out.push_back(p.pattern.name);
+  for (const ScanPattern& p : presets())
+    out.push_back(p.name);
   return out;
 }
 
 ScanPattern preset(std::string_view name, double rotation_hz, int columns) {
-  for (const Preset& p : presets()) {
-    if (p.pattern.name != name)
+  for (const ScanPattern& p : presets()) {
+    if (p.name != name)
       continue;
-    ScanPattern s = p.pattern;
+    ScanPattern s = p;
     if (rotation_hz > 0.0)
       s.rotation_hz = rotation_hz;
-    s.columns = columns > 0
-                    ? columns
-                    : static_cast<int>(std::lround(1.0 / (p.firing_period_s * s.rotation_hz)));
+    s.columns = columns > 0 ? columns
+                            : static_cast<int>(std::floor(
+                                  1.0 / (s.firing_period_s * s.rotation_hz) * (1.0 + 1e-9)));
     return s;
   }
   throw ConfigError(

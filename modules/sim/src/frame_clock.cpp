@@ -22,7 +22,10 @@ FrameLines FrameClock::read(std::int64_t k) const {
   const TrajectorySample sample = trajectory_.sample(k);
   // Relative to frame 0, so positions stay small and 12 significant digits keep sub-micrometre
   // resolution even for long routes far from the scenario origin.
-  const Eigen::Isometry3d T = T_cam0_world_first_ * (sample.pose() * T_body_cam0_);
+  // The first frame's is the identity by definition (KITTI's first line), not the rounding of
+  // a pose times its inverse.
+  const Eigen::Isometry3d T =
+      k == 0 ? Eigen::Isometry3d::Identity() : T_cam0_world_first_ * (sample.pose() * T_body_cam0_);
   const Eigen::Matrix<double, 3, 4> m = T.matrix().topRows<3>();
   return {fmt::format("{}.{:09}\n", sample.t_ns / kNsPerSecond, sample.t_ns % kNsPerSecond),
           fmt::format("{:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} {:.12e} "

@@ -73,7 +73,7 @@ struct LidarConfig {
   int columns = 0;
   UniformConfig uniform;
   double range_min_m = 0.0, range_max_m = 0.0;  // 0: the device's
-  double range_sigma_m = 0.02;
+  double range_sigma_m = -1.0;                  // -1: the device's
   double range_sigma_per_m = 0.0;
   double dropout = 0.0;
   double intensity_threshold = 0.0;
@@ -88,6 +88,31 @@ struct LidarConfig {
   double echo_separation_m = 0.3;
   ReturnMode returns = ReturnMode::kStrongest;
 };
+
+std::string_view presetName(LidarModel m) {
+  switch (m) {
+    case LidarModel::kVlp16:
+      return "vlp16";
+    case LidarModel::kHdl32:
+      return "hdl32";
+    case LidarModel::kOs1_64:
+      return "os1_64";
+    case LidarModel::kHdl64:
+    case LidarModel::kUniform:
+      break;
+  }
+  return "hdl64";
+}
+
+// The scan pattern `c` asks for, before the scenario's range limits.
+lidar::ScanPattern devicePattern(const LidarConfig& c) {
+  constexpr int kUniformColumns = 2048;
+  return c.model == LidarModel::kUniform
+             ? lidar::uniformPattern(c.uniform.channels, c.uniform.fov_up_rad / kRadPerDeg,
+                                     c.uniform.fov_down_rad / kRadPerDeg,
+                                     c.columns > 0 ? c.columns : kUniformColumns, c.rotation_hz)
+             : lidar::preset(presetName(c.model), c.rotation_hz, c.columns);
+}
 
 const scenario::Binding<LidarConfig>& lidarBinding() {
   static const scenario::Binding<UniformConfig> uniform = [] {
@@ -131,7 +156,11 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.object("uniform", &C::uniform, uniform, "The uniform pattern (model \"uniform\")");
     b.number("range_min_m", &C::range_min_m, kM, "Shortest range; 0: the device's").range(0, 100);
     b.number("range_max_m", &C::range_max_m, kM, "Longest range; 0: the device's").range(0, 2000);
-    b.number("range_sigma_m", &C::range_sigma_m, kM, "Gaussian range noise, 1 sigma").range(0, 1);
+    b.number("range_sigma_m", &C::range_sigma_m, kM,
+             "Gaussian range noise, 1 sigma; -1: the device's datasheet value (VLP-16 0.03 m, "
+             "HDL-32E and HDL-64E 0.02 m, OS1-64 0.015 m; 0.02 m for uniform)",
+             scenario::Sentinel{-1.0, -1.0})
+        .range(-1, 1);
     b.number("range_sigma_per_m", &C::range_sigma_per_m, units::si("m/m"),
              "Range noise growing with range: sigma = range_sigma_m + this * range")
         .range(0, 0.1);
@@ -180,27 +209,35 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
       if (c.basics.period_ns * c.rotation_hz < 1e9 * (1.0 - 1e-12))
         out.push_back({at(c.rotation_hz), "is too slow: one revolution must fit in period_ns"});
-      if (c.range_max_m > 0.0 && c.range_min_m >= c.range_max_m)
+      if (c.range_sigma_m < 0.0 && c.range_sigma_m != -1.0)
+        out.push_back({at(c.range_sigma_m), "must be -1 (the device's) or 0 ... 1"});
+      // The limits as the sensor will have them: a 0 stands for the device's own value, and a
+      // limit set against the device's other one can leave no range at all.
+      const lidar::ScanPattern device = devicePattern(c);
+      const double near = c.range_min_m > 0.0 ? c.range_min_m : device.range_min_m;
+      const double far = c.range_max_m > 0.0 ? c.range_max_m : device.range_max_m;
+      if (c.range_min_m > 0.0 && c.range_max_m > 0.0 && near >= far)
         out.push_back({at(c.range_min_m), "must be below " + at.key(c.range_max_m)});
+      else if (near >= far)
+        out.push_back({at(c.range_max_m > 0.0 ? c.range_max_m : c.range_min_m),
+                       fmt::format("leaves no range: shortest {} m, longest {} m (0 takes the "
+                                   "device's own: {} ... {} m)",
+                                   near, far, device.range_min_m, device.range_max_m)});
+      // A column must hold the device's whole firing sequence.
+      if (c.columns > 0 && device.firing_period_s > 0.0 &&
+          1.0 / (c.columns * c.rotation_hz) < device.firing_period_s * (1.0 - 1e-9))
+        out.push_back(
+            {at(c.columns),
+             fmt::format("is more than the {} can fire at {} Hz: {} columns leave {:.2f} us a "
+                         "column, shorter than its {:.3f} us firing sequence (at most {})",
+                         device.name, c.rotation_hz, c.columns, 1e6 / (c.columns * c.rotation_hz),
+                         device.firing_period_s * 1e6,
+                         static_cast<int>(std::floor(
+                             1.0 / (device.firing_period_s * c.rotation_hz) * (1.0 + 1e-9))))});
     });
     return b;
   }();
   return binding;
-}
-
-std::string_view presetName(LidarModel m) {
-  switch (m) {
-    case LidarModel::kVlp16:
-      return "vlp16";
-    case LidarModel::kHdl32:
-      return "hdl32";
-    case LidarModel::kOs1_64:
-      return "os1_64";
-    case LidarModel::kHdl64:
-    case LidarModel::kUniform:
-      break;
-  }
-  return "hdl64";
 }
 
 // The sensor's pose in body axes with KITTI's Velodyne axes (x forward, y left, z up).
@@ -235,18 +272,12 @@ lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
       throw ConfigError(fmt::format("{}: {}", mountPath(path), why));
     p.vehicle = lidar::LidarParams::Vehicle{train.body.box(), pose};
   }
-  constexpr int kUniformColumns = 2048;
-  p.pattern =
-      c.model == LidarModel::kUniform
-          ? lidar::uniformPattern(c.uniform.channels, c.uniform.fov_up_rad / kRadPerDeg,
-                                  c.uniform.fov_down_rad / kRadPerDeg,
-                                  c.columns > 0 ? c.columns : kUniformColumns, c.rotation_hz)
-          : lidar::preset(presetName(c.model), c.rotation_hz, c.columns);
+  p.pattern = devicePattern(c);
   if (c.range_min_m > 0.0)
     p.pattern.range_min_m = c.range_min_m;
   if (c.range_max_m > 0.0)
     p.pattern.range_max_m = c.range_max_m;
-  p.range_sigma_m = c.range_sigma_m;
+  p.range_sigma_m = c.range_sigma_m < 0.0 ? p.pattern.range_sigma_m : c.range_sigma_m;
   p.range_sigma_slope = c.range_sigma_per_m;
   p.dropout = c.dropout;
   p.intensity_threshold = c.intensity_threshold;
@@ -437,6 +468,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
       out.pcd.reserve(n);
     char* bin = out.bin.data();
     char* info = out.info.data();
+    const auto lasers = static_cast<int>(scanner_.params().pattern.lasers.size());
     for (const lidar::LidarPoint& p : frame.points) {
       const Eigen::Vector3f xyz = scanner_.written(p);
       io::putPacked(bin, xyz.x());
@@ -454,7 +486,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
       out.cls.push_back(p.cls);
       out.instance.push_back(frame.instance(p));
       if (pcd_)
-        out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity, p.ring, time, 0});
+        out.pcd.push_back({xyz.x(), xyz.y(), xyz.z(), p.intensity,
+                           static_cast<std::uint16_t>(lasers - 1 - p.ring), time, 0});
     }
     frames_.give(std::move(reused));
     return out;

@@ -12,8 +12,10 @@ namespace trainsim::io {
 struct PcdPoint {
   float x = 0.0f, y = 0.0f, z = 0.0f;
   float intensity = 0.0f;
-  std::uint16_t ring = 0;  ///< 0 = the highest laser
-  float time = 0.0f;       ///< firing time after the scan's start, s
+  /// 0 = the lowest laser, as Velodyne's ROS driver numbers them (LidarPoint::ring and
+  /// point_info count from the highest, as KITTI's point order goes).
+  std::uint16_t ring = 0;
+  float time = 0.0f;  ///< firing time after the scan's start, s
   std::uint32_t label = 0;
 };
 

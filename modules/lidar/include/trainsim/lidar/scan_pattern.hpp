@@ -29,6 +29,9 @@ struct ScanPattern {
   double rotation_hz = 10.0;
   double range_min_m = 0.9, range_max_m = 120.0;
   double range_sigma_m = 0.02;  ///< the datasheet's range accuracy, 1 σ
+  /// A preset's whole firing sequence (the shortest column it can fire); 0 for uniform, whose
+  /// lasers of a column fire together.
+  double firing_period_s = 0.0;
 
   double columnPeriod() const { return 1.0 / (columns * rotation_hz); }
   double revolution() const { return 1.0 / rotation_hz; }
@@ -47,7 +50,8 @@ struct ScanPattern {
 /// The preset names, in table order ("vlp16", "hdl32", "hdl64", "os1_64").
 std::vector<std::string> presetNames();
 /// A preset's pattern; `columns` 0 takes the device's own count at `rotation_hz` (0: the
-/// preset's rate). Throws ConfigError for an unknown name.
+/// preset's rate): as many whole firing sequences as a revolution holds. Throws ConfigError for
+/// an unknown name.
 ScanPattern preset(std::string_view name, double rotation_hz = 0.0, int columns = 0);
 /// A uniform pattern: `channels` lasers evenly from fov_up_deg down to fov_down_deg, all of a
 /// column firing together, `columns` columns per revolution.
