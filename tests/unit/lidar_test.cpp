@@ -190,9 +190,8 @@ TEST(Scanner, IntensityIsTheClosedFormLambertianBeckmannValue) {
           const Eigen::Vector3d d = pt.xyz.cast<double>().normalized();
           const double c = std::abs(d.z()), tan2 = (1 - c * c) / (c * c);
           const double m2 = m.roughness * m.roughness;
-          double r = m.reflectance *
-                     (m.k_d * c + m.k_s * std::exp(-tan2 / m2) / (m2 * c * c * c * c)) /
-                     (m.k_d + m.k_s / m2);
+          double r =
+              m.reflectance * (m.k_d * c + m.k_s * std::exp(-tan2 / m2) / (m2 * c * c * c * c));
           if (std::acos(c) > m.max_incidence_rad)
             r = 0.0;
           if (falloff)
@@ -206,6 +205,31 @@ TEST(Scanner, IntensityIsTheClosedFormLambertianBeckmannValue) {
               << static_cast<int>(scale) << ", falloff " << falloff;
         }
       }
+    }
+  }
+}
+
+TEST(Intensity, OneSystemConstantForEveryMaterialSoGlossySurfacesKeepTheirDiffuseShare) {
+  // A 100 % Lambertian target seen head-on returns 1; every material, wherever its specular
+  // lobe has died away, returns its diffuse share ρ k_d cos θ (a polished rail head seen from a
+  // roof at 80° returns 0.35 · 0.3 · cos 80°, not a hundredth of it), and head-on at least ρ.
+  scene::Material white;
+  white.reflectance = 1.0;
+  white.k_d = 1.0;
+  white.k_s = 0.0;
+  white.roughness = 1.0;
+  white.cos_max_incidence = 0.0;
+  EXPECT_DOUBLE_EQ(lidar::reflectivity(white, 1.0), 1.0);
+  for (const scene::Material& m : scene::materials()) {
+    if (m.reflectance == 0.0)
+      continue;
+    EXPECT_GE(lidar::reflectivity(m, 1.0), m.reflectance * (1 - 1e-12)) << m.name;
+    for (double deg = 1.0; deg < 90.0; deg += 1.0) {
+      const double c = std::cos(deg * kDeg), t = std::tan(deg * kDeg);
+      if (c < m.cos_max_incidence || t * t / (m.roughness * m.roughness) < 40.0)
+        continue;  // no return, or still in the specular lobe (exp(−40) = 4e-18)
+      EXPECT_NEAR(lidar::reflectivity(m, c), m.reflectance * m.k_d * c, 1e-12)
+          << m.name << " at " << deg << " deg";
     }
   }
 }

@@ -15,11 +15,17 @@ enum class IntensityScale : std::uint8_t {
   kVlp16,  ///< Velodyne calibrated reflectivity: 0..100 diffuse, 101..255 retro-reflectors
 };
 
-/// A material's backscatter as a function of the incidence angle θ (cos θ given, 0 < cos θ ≤ 1):
-///   ρ · (k_d cos θ + k_s exp(−tan²θ / m²) / (m² cos⁴θ)) / (k_d + k_s / m²),
-/// normalised so that a surface seen head-on returns its reflectance ρ; 0 past the material's
-/// maximum incidence angle (no return). The constants are worked out once per material (the LiDAR
-/// evaluates it for every return), and the angle test is a select rather than a branch: a
+/// A material's backscatter as a function of the incidence angle θ (cos θ given, 0 < cos θ ≤ 1),
+/// the Lambertian-Beckmann form of sensors-reference.md 3.2:
+///   ρ · (k_d cos θ + k_s exp(−tan²θ / m²) / (m² cos⁴θ)),
+/// 0 past the material's maximum incidence angle (no return). The system constant is fixed once
+/// for all materials, by a 100 % Lambertian target seen head-on returning 1; not per material:
+/// normalising each material by its own head-on value would scale its diffuse part down by
+/// (k_d + k_s / m²) / k_d, 100 × for a polished rail head (m 0.15), and leave it near black at
+/// every angle but the specular one. A glossy surface is bright near normal incidence (a rail
+/// head or a galvanised mast head-on can pass 1, as real sensors saturate on them) and returns
+/// its diffuse share ρ k_d cos θ elsewhere. The constants are worked out once per material (the
+/// LiDAR evaluates it for every return), and the angle test is a select rather than a branch: a
 /// column's misses (cos θ = 0) and grazing hits come out as 0 without a misprediction each.
 class Backscatter {
  public:
@@ -27,8 +33,8 @@ class Backscatter {
   explicit Backscatter(const scene::Material& m)
       : cos_max_(m.cos_max_incidence),
         inv_m2_(1.0 / (m.roughness * m.roughness)),
-        diffuse_(m.reflectance * m.k_d / (m.k_d + m.k_s * inv_m2_)),
-        specular_(m.reflectance * m.k_s * inv_m2_ / (m.k_d + m.k_s * inv_m2_)) {}
+        diffuse_(m.reflectance * m.k_d),
+        specular_(m.reflectance * m.k_s * inv_m2_) {}
   double operator()(double cos_theta) const {
     const double c2 = cos_theta * cos_theta;
     const double specular =

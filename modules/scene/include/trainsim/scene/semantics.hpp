@@ -34,7 +34,7 @@ struct SemanticClass {
 struct Material {
   MaterialId id = 0;
   std::string name;
-  double reflectance = 0.0;  ///< at 905 nm, normal incidence
+  double reflectance = 0.0;  ///< ρ at 905 nm (a Lambertian surface's head-on return)
   double k_d = 1.0, k_s = 0.0;
   double roughness = 1.0;  ///< Beckmann RMS facet slope m
   double max_incidence_rad = 0.0;
