@@ -8,7 +8,7 @@ namespace trainsim::io {
 
 /// What an image holds, which decides how it is compressed (lossless either way: only the
 /// time and the size change). Measured on the default run's images (bench_camera's PNG table):
-/// libpng's default, trying all five row filters on every row with zlib level 6, costs 2.5 ×
+/// libpng's default, trying all five row filters on every row with zlib level 6, costs 2.6 ×
 /// the time of one filter chosen for the content at level 4, for files of about the same size.
 enum class PngContent {
   kImage,          ///< a camera image: the Up filter, level 4
