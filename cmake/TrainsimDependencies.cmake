@@ -11,6 +11,8 @@ find_package(Threads REQUIRED)
 find_package(CGAL REQUIRED)
 # libpng: 16-bit height maps and, later, depth, semantic and instance images.
 find_package(PNG REQUIRED)
+# Xlib: the camera checks that DISPLAY accepts connections before VTK, which aborts if not.
+find_package(X11 REQUIRED)
 # Embree 3.13 (Debian: ray masks on, one instance level, TBB tasking): the LiDAR's ray casting.
 find_package(embree 3.13 REQUIRED)
 # oneTBB: the run loop's worker arena (sim) and, later, the LiDAR's column split.

@@ -62,10 +62,21 @@ for attempt in 1 2 3; do
     [ "$n" -ge 60 ] && break
     sleep 0.02
   done
+  xvfb=$(pgrep -P "$pid" -x Xvfb || true)  # the private X server it started (no DISPLAY)
   kill -9 "$pid" 2>/dev/null || true
   wait "$pid" 2>/dev/null || true
   [ -e "$WORK/lcut/.trainsim/checkpoint.json" ] && [ ! -e "$WORK/lcut/manifest.json" ] && break
 done
+# Its Xvfb goes with it (the parent-death signal), not left running for good.
+if [ -n "$xvfb" ]; then
+  alive() { local s; s=$(awk '{print $3}' "/proc/$1/stat" 2>/dev/null); [ -n "$s" ] && [ "$s" != Z ]; }
+  for _ in $(seq 1 100); do alive "$xvfb" || break; sleep 0.05; done
+  if alive "$xvfb"; then
+    fail "LiDAR: the killed run's Xvfb ($xvfb) lives on"; kill "$xvfb"
+  else
+    pass "LiDAR: the killed run's Xvfb went with it"
+  fi
+fi
 [ -e "$WORK/lcut/.trainsim/checkpoint.json" ] && pass "LiDAR: killed run left a checkpoint" ||
   fail "LiDAR: no interrupted run to resume"
 expect_exit 0 "LiDAR: resume" -- "$TRAINSIM" generate "$WORK/lidar.json" --out "$WORK/lcut" \

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "trainsim/camera/camera_model.hpp"
+#include "trainsim/camera/lens.hpp"
 
 namespace trainsim {
 namespace {
@@ -57,3 +58,30 @@ TEST(CameraModel, AHorizontalFieldOfViewGivesSquarePixelsCentred) {
 
 }  // namespace
 }  // namespace trainsim
+
+namespace trainsim::camera {
+namespace {
+
+TEST(Lens, TheRimCheckAgreesWithTheWholeImageRemap) {
+  // Validation checks a lens on the image's rim only (lensProblem); the camera inverts it at
+  // every pixel (LensRemap). Over barrel and pincushion lenses up to folding, the two agree.
+  const Intrinsics k = Intrinsics::fromHorizontalFov(160, 120, 80.0 * std::numbers::pi / 180.0);
+  int folded = 0, fine = 0;
+  for (double k1 = -1.6; k1 <= 0.61; k1 += 0.1)
+    for (const double k2 : {0.0, 0.2}) {
+      const Distortion d{k1, k2, 0.02, -0.01, 0.0};
+      bool remap_ok = true;
+      try {
+        LensRemap remap(k, d);
+      } catch (const std::exception&) {
+        remap_ok = false;
+      }
+      EXPECT_EQ(lensProblem(k, d).empty(), remap_ok) << k1 << " " << k2;
+      ++(remap_ok ? fine : folded);
+    }
+  EXPECT_GT(folded, 10) << fine;
+  EXPECT_GT(fine, 10);
+}
+
+}  // namespace
+}  // namespace trainsim::camera

@@ -26,20 +26,18 @@ struct LensRemap::Maps {
 
 namespace {
 
-// The pinhole points (x, y) = (X/Z, Y/Z) imaged at every output pixel, row by row, by inverting
-// the distortion (OpenCV's iteration, run until it settles, then checked by distorting back).
-cv::Mat undistortedGrid(const Intrinsics& k, const Distortion& d) {
-  cv::Mat pixels(k.width * k.height, 1, CV_64FC2);
-  for (int v = 0; v < k.height; ++v)
-    for (int u = 0; u < k.width; ++u)
-      pixels.at<cv::Vec2d>(v * k.width + u) = {static_cast<double>(u), static_cast<double>(v)};
+// The pinhole points (x, y) = (X/Z, Y/Z) imaged at `pixels` (CV_64FC2, a column), by inverting
+// the distortion (OpenCV's iteration, run until it settles); `worst` is how far, in pixels, the
+// distortion of those points lands from the pixels it should give back.
+cv::Mat undistorted(const cv::Mat& pixels, const Intrinsics& k, const Distortion& d,
+                    double& worst) {
   const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
   const cv::Matx<double, 1, 5> D(d.k1, d.k2, d.p1, d.p2, d.k3);
   cv::Mat xy;
   cv::undistortPoints(
       pixels, xy, K, D, cv::noArray(), cv::noArray(),
       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-14));
-  double worst = 0.0;
+  worst = 0.0;
   for (int i = 0; i < xy.rows; ++i) {
     const cv::Vec2d p = xy.at<cv::Vec2d>(i);
     const Eigen::Vector2d back = d.apply({p[0], p[1]});
@@ -47,15 +45,45 @@ cv::Mat undistortedGrid(const Intrinsics& k, const Distortion& d) {
     worst =
         std::max(worst, std::hypot(k.fx * back.x() + k.cx - q[0], k.fy * back.y() + k.cy - q[1]));
   }
+  return xy;
+}
+
+std::string foldMessage(double worst) {
+  return fmt::format(
+      "the lens distortion cannot be inverted over the image (off by {:.3g} px at worst): the "
+      "coefficients fold the image over itself within its field of view",
+      worst);
+}
+
+// Every output pixel's pinhole point, row by row; throws if the inversion fails anywhere.
+cv::Mat undistortedGrid(const Intrinsics& k, const Distortion& d) {
+  cv::Mat pixels(k.width * k.height, 1, CV_64FC2);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u)
+      pixels.at<cv::Vec2d>(v * k.width + u) = {static_cast<double>(u), static_cast<double>(v)};
+  double worst = 0.0;
+  cv::Mat xy = undistorted(pixels, k, d, worst);
   if (!(worst < 1e-3))
-    throw ConfigError(fmt::format(
-        "camera: the lens distortion cannot be inverted over the image (off by {:.3g} px at "
-        "worst): the coefficients fold the image over itself within its field of view",
-        worst));
+    throw ConfigError("camera: " + foldMessage(worst));
   return xy;
 }
 
 }  // namespace
+
+std::string lensProblem(const Intrinsics& k, const Distortion& d) {
+  // The image's rim: the distortion's polynomial first stops being invertible at the largest
+  // radius it has to cover, and the rim holds every pixel's largest radius in its direction.
+  cv::Mat rim(0, 1, CV_64FC2);
+  for (int u = 0; u < k.width; ++u)
+    for (const int v : {0, k.height - 1})
+      rim.push_back(cv::Vec2d(u, v));
+  for (int v = 1; v + 1 < k.height; ++v)
+    for (const int u : {0, k.width - 1})
+      rim.push_back(cv::Vec2d(u, v));
+  double worst = 0.0;
+  undistorted(rim, k, d, worst);
+  return worst < 1e-3 ? std::string() : foldMessage(worst);
+}
 
 LensRemap::LensRemap(const Intrinsics& output, const Distortion& distortion)
     : output_(output), maps_(std::make_unique<Maps>()) {

@@ -1,18 +1,22 @@
 #include "trainsim/camera/x_display.hpp"
 
+#include <X11/Xlib.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 
 #include "trainsim/core/error.hpp"
+#include "trainsim/core/log.hpp"
 
 extern char** environ;
 
@@ -28,24 +32,51 @@ void stop(pid_t pid) {
   waitpid(pid, &status, 0);
 }
 
+// Whether an X client can connect to `name` (VTK aborts the process when it cannot).
+bool reachable(const char* name) {
+  Display* d = XOpenDisplay(name);
+  if (d == nullptr)
+    return false;
+  XCloseDisplay(d);
+  return true;
+}
+
+// The executable `file` on PATH, or empty.
+std::string onPath(const std::string& file) {
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
+  for (std::string dir; std::getline(dirs, dir, ':');) {
+    const std::string candidate = (dir.empty() ? "." : dir) + "/" + file;
+    struct stat st {};
+    if (stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+        access(candidate.c_str(), X_OK) == 0)
+      return candidate;
+  }
+  return {};
+}
+
 }  // namespace
 
 std::unique_ptr<XDisplay> XDisplay::ensure() {
-  if (const char* d = std::getenv("DISPLAY"); d != nullptr && *d != '\0')
-    return nullptr;
+  std::optional<std::string> previous;
+  if (const char* d = std::getenv("DISPLAY"); d != nullptr && *d != '\0') {
+    if (reachable(d))
+      return nullptr;
+    // A stale DISPLAY (an SSH session's forwarding gone, a server stopped): render on our own.
+    logWarn(
+        fmt::format("cannot open the X display DISPLAY={}; the cameras render on a private "
+                    "Xvfb instead",
+                    d));
+    previous = d;
+  }
+  const std::string xvfb = onPath("Xvfb");
+  if (xvfb.empty())
+    throw RuntimeError(
+        "cameras render through X, there is no usable DISPLAY and Xvfb is not installed "
+        "(Debian package xvfb)");
   int fds[2];
   if (pipe(fds) != 0)
     throw RuntimeError(fmt::format("cannot start Xvfb: pipe: {}", std::strerror(errno)));
-  // Xvfb writes its display number to fd 3 once it accepts connections; its own messages go to
-  // /dev/null (a failure shows as no number).
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, fds[0]);  // first: it may be fd 3 itself
-  posix_spawn_file_actions_adddup2(&actions, fds[1], 3);
-  if (fds[1] != 3)
-    posix_spawn_file_actions_addclose(&actions, fds[1]);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
   char* argv[] = {const_cast<char*>("Xvfb"),
                   const_cast<char*>("-displayfd"),
                   const_cast<char*>("3"),
@@ -57,17 +88,31 @@ std::unique_ptr<XDisplay> XDisplay::ensure() {
                   const_cast<char*>("+extension"),
                   const_cast<char*>("GLX"),
                   nullptr};
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, "Xvfb", &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(fds[1]);
-  if (spawned != 0) {
+  // fork and exec rather than posix_spawn, for the parent-death signal: Xvfb goes with this
+  // process however it ends (kill -9 included) instead of living on, orphaned. The child calls
+  // only async-signal-safe functions. Xvfb writes its display number to fd 3 once it accepts
+  // connections; its own messages go to /dev/null (a failure shows as no number).
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent)  // the parent is already gone
+      _exit(127);
     close(fds[0]);
-    throw RuntimeError(
-        spawned == ENOENT
-            ? std::string("cameras render through X, DISPLAY is unset and Xvfb is not installed "
-                          "(Debian package xvfb)")
-            : fmt::format("cannot start Xvfb: {}", std::strerror(spawned)));
+    if (fds[1] != 3) {
+      dup2(fds[1], 3);
+      close(fds[1]);
+    }
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execve(xvfb.c_str(), argv, environ);
+    _exit(127);
+  }
+  close(fds[1]);
+  if (pid < 0) {
+    close(fds[0]);
+    throw RuntimeError(fmt::format("cannot start Xvfb: {}", std::strerror(errno)));
   }
   // Read "N\n" with a deadline.
   std::string number;
@@ -89,11 +134,14 @@ std::unique_ptr<XDisplay> XDisplay::ensure() {
   }
   const std::string name = ":" + number.substr(0, end);
   setenv("DISPLAY", name.c_str(), 1);
-  return std::unique_ptr<XDisplay>(new XDisplay(pid, name));
+  return std::unique_ptr<XDisplay>(new XDisplay(pid, name, std::move(previous)));
 }
 
 XDisplay::~XDisplay() {
-  unsetenv("DISPLAY");
+  if (previous_)
+    setenv("DISPLAY", previous_->c_str(), 1);
+  else
+    unsetenv("DISPLAY");
   stop(pid_);
 }
 

@@ -78,6 +78,8 @@ const scenario::Binding<camera::Distortion>& distortionBinding() {
   return binding;
 }
 
+camera::Intrinsics intrinsics(const CameraConfig& c);
+
 const scenario::Binding<CameraConfig>& cameraBinding() {
   static const scenario::Binding<CameraConfig> binding = [] {
     using C = CameraConfig;
@@ -102,10 +104,11 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
         .range(0, 1e6);
     b.number("fy", &C::fy, units::kNone, "Vertical focal length in pixels; 0: fx").range(0, 1e6);
     b.number("cx", &C::cx, units::kNone,
-             "Principal point, pixels from the centre of the top-left pixel; 0 with cy 0: the "
-             "image centre")
+             "Principal point column, pixels from the centre of the top-left pixel; 0: the "
+             "image's centre column")
         .range(0, 1e6);
-    b.number("cy", &C::cy, units::kNone, "Principal point row (see cx)").range(0, 1e6);
+    b.number("cy", &C::cy, units::kNone, "Principal point row (see cx); 0: the image's centre row")
+        .range(0, 1e6);
     b.object("distortion", &C::distortion, distortionBinding(),
              "Lens distortion (Brown-Conrady, OpenCV's coefficients; all 0: a pinhole). The "
              "camera renders a pinhole image large enough to cover every ray, then remaps it "
@@ -115,7 +118,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "Nothing nearer is drawn; the depth step at z is about z^2 / (near * 2^24): 1.2 mm "
              "at 100 m for 0.5 m")
         .range(0.05, 10);
-    b.number("draw_distance_m", &C::far_m, kM, "Nothing farther is drawn (the far plane)")
+    b.number("draw_distance_m", &C::far_m, kM,
+             "Nothing farther is drawn (the far plane); at least depth_max_m when depth is on")
         .range(10, 5000);
     b.number("depth_max_m", &C::depth_max_m, kM,
              "Depth images hold 0 beyond this (KITTI's 16-bit depth ends at 255.99 m)")
@@ -174,6 +178,13 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
         out.push_back({at(c.depth_max_m), "must not exceed " + at.key(c.far_m)});
       if (!c.rgb && !c.depth && !c.depth_float && !c.semantic && !c.semantic_preview && !c.instance)
         out.push_back({at(c.rgb), "a camera must write at least one image"});
+      if (c.fx == 0.0 && c.fy > 0.0)
+        out.push_back({at(c.fy), "needs " + at.key(c.fx) + ": with fx 0, " + at.key(c.hfov_rad) +
+                                     " sets both (square pixels)"});
+      // A lens the renderer cannot invert over the image: validate refuses what generate would.
+      if (!c.distortion.none() && c.width > 0 && c.height > 0)
+        if (const std::string why = camera::lensProblem(intrinsics(c), c.distortion); !why.empty())
+          out.push_back({at(c.distortion), why});
     });
     return b;
   }();
@@ -194,10 +205,10 @@ camera::Intrinsics intrinsics(const CameraConfig& c) {
     k.fx = c.fx;
     k.fy = c.fy > 0.0 ? c.fy : c.fx;
   }
-  if (c.cx > 0.0 || c.cy > 0.0) {
+  if (c.cx > 0.0)
     k.cx = c.cx;
+  if (c.cy > 0.0)
     k.cy = c.cy;
-  }
   return k;
 }
 

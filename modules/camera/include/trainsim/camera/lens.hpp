@@ -1,6 +1,7 @@
 #pragma once
 // Lens distortion: a distorted camera's images made from a pinhole render by OpenCV's remap.
 #include <memory>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -21,6 +22,11 @@ struct Distortion {
   /// (x', y') of (x, y).
   Eigen::Vector2d apply(const Eigen::Vector2d& xy) const;
 };
+
+/// Why `d` cannot serve a camera with intrinsics `k` (its inversion fails on the image's rim,
+/// where the distortion folds first), or empty: a cheap check for validation, where LensRemap
+/// checks every pixel.
+std::string lensProblem(const Intrinsics& k, const Distortion& d);
 
 /// The images of a distorted camera with intrinsics K (output size) made from a pinhole render:
 /// the render has the same optical centre and axes, covers every ray of the distorted image and
