@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "trainsim/camera/camera_model.hpp"
+#include "trainsim/camera/exposure.hpp"
 #include "trainsim/camera/lens.hpp"
 
 namespace trainsim {
@@ -81,6 +82,35 @@ TEST(Lens, TheRimCheckAgreesWithTheWholeImageRemap) {
     }
   EXPECT_GT(folded, 10) << fine;
   EXPECT_GT(fine, 10);
+}
+
+}  // namespace
+}  // namespace trainsim::camera
+
+namespace trainsim::camera {
+namespace {
+
+TEST(Exposure, OneStopDoublesTheLightNotTheEncodedValue) {
+  // Gain 1 and no noise leave every value as it is; one stop more doubles each value's linear
+  // light (to the 8-bit step) until it clips at white; a mid grey (sRGB 118, 18 % light) becomes
+  // 36 % light (sRGB 162), not 236.
+  const Exposure same(1.0, 0.0, 0.0), stop(2.0, 0.0, 0.0);
+  EXPECT_TRUE(same.identity());
+  for (int v = 0; v < 256; ++v) {
+    const auto c = static_cast<std::uint8_t>(v);
+    EXPECT_EQ(same(c, 0.0), c);
+    const double want = std::min(1.0, 2.0 * srgbToLinear(v / 255.0));
+    const double got = srgbToLinear(stop(c, 0.0) / 255.0);
+    // Half an 8-bit step of the encoded value, in linear light, at the value's slope.
+    const double step = std::max(srgbToLinear((stop(c, 0.0) + 0.5) / 255.0) - got,
+                                 got - srgbToLinear((stop(c, 0.0) - 0.5) / 255.0));
+    EXPECT_NEAR(got, want, step + 1e-12) << v;
+  }
+  EXPECT_EQ(stop(118, 0.0), 162);
+  // Read noise of 2 linear steps: in the dark, where sRGB stretches, it shows as more steps.
+  const Exposure noisy(1.0, 2.0, 0.0);
+  EXPECT_GT(noisy(3, 1.0) - 3, 2);
+  EXPECT_LE(noisy(250, 1.0) - 250, 1);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "trainsim/camera/exposure.hpp"
 #include "trainsim/camera/lens.hpp"
 #include "trainsim/camera/renderer.hpp"
 #include "trainsim/core/error.hpp"
@@ -159,8 +160,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
               "at 35 m) light the scene, at any daytime (always on at night)");
     b.number("shutter_s", &C::shutter_s, units::si("s"),
              "Exposure time. The presets' colours are those of a sunny-16 exposure (1/100 s at "
-             "f/16, ISO 100); other settings scale them by shutter_s * iso / f_number^2 "
-             "relative to it, clipping at white")
+             "f/16, ISO 100); other settings scale their light (linear, not the sRGB values) "
+             "by shutter_s * iso / f_number^2 relative to it, clipping at white")
         .range(1e-6, 10);
     b.number("f_number", &C::f_number, units::kNone, "Aperture, the f-number N").range(0.5, 64);
     b.number("iso", &C::iso, units::kNone, "Sensitivity, ISO").range(10, 409600);
@@ -280,6 +281,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         lens_(c.distortion.none() ? nullptr
                                   : std::make_unique<camera::LensRemap>(intrinsics_, c.distortion)),
         lighting_(lighting(c)),
+        // Relative to the presets' sunny-16 exposure: 1/100 s, ISO 100, f/16.
+        exposure_(c.shutter_s / 0.01 * c.iso / 100.0 * std::pow(16.0 / c.f_number, 2),
+                  c.read_noise_dn, c.shot_noise_dn),
         renderer_(rendererOptions(c, lens_ ? lens_->render() : intrinsics_)) {
     if (scene_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
@@ -381,21 +385,13 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   // exposure (t · ISO / N², relative to sunny 16), then Gaussian noise of variance read² +
   // shot² · value / 255 from the counter-based stream (pixel, sample), clipped to 8 bits.
   void develop(camera::CameraImages& img, std::int64_t k) const {
-    const double gain =
-        config_.shutter_s / 0.01 * config_.iso / 100.0 * std::pow(16.0 / config_.f_number, 2);
-    const double read2 = config_.read_noise_dn * config_.read_noise_dn;
-    const double shot2 = config_.shot_noise_dn * config_.shot_noise_dn / 255.0;
-    const bool noisy = read2 > 0.0 || shot2 > 0.0;
-    if (gain == 1.0 && !noisy)
+    if (exposure_.identity())
       return;
     std::array<double, 4> z{};
     for (std::size_t i = 0; i < img.rgb.size(); ++i) {
-      if (noisy && i % 4 == 0)
+      if (exposure_.noisy() && i % 4 == 0)
         z = noise_.normal4(i / 4, static_cast<std::uint64_t>(k));
-      double v = gain * img.rgb[i];
-      if (noisy)
-        v += std::sqrt(read2 + shot2 * std::min(v, 255.0)) * z[i % 4];
-      img.rgb[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+      img.rgb[i] = exposure_(img.rgb[i], z[i % 4]);
     }
   }
 
@@ -497,6 +493,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
   std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_;
+  camera::Exposure exposure_;
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
