@@ -381,9 +381,10 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       }
   }
 
-  // Exposure and sensor noise on the colour image of sample k: the render's values scaled by the
-  // exposure (t · ISO / N², relative to sunny 16), then Gaussian noise of variance read² +
-  // shot² · value / 255 from the counter-based stream (pixel, sample), clipped to 8 bits.
+  // Exposure and sensor noise on the colour image of sample k, in linear light (camera::Exposure):
+  // the render's light scaled by the exposure (t · ISO / N², relative to sunny 16), then Gaussian
+  // noise of variance read² + shot² · value / 255 from the counter-based stream (pixel, sample),
+  // clipped at white and encoded back to sRGB.
   void develop(camera::CameraImages& img, std::int64_t k) const {
     if (exposure_.identity())
       return;
