@@ -1,7 +1,9 @@
 #include "trainsim/camera/exposure.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace trainsim::camera {
 
@@ -14,27 +16,47 @@ double linearToSrgb(double l) {
 }
 
 namespace {
+
 constexpr int kEncodeSteps = 65535;  // linear steps of the encoding table: < 0.05 DN at black
+
+struct Tables {
+  std::array<double, 256> linear{};
+  std::vector<std::uint8_t> encode = std::vector<std::uint8_t>(kEncodeSteps + 1);
+  Tables() {
+    for (int v = 0; v < 256; ++v)
+      linear[static_cast<std::size_t>(v)] = srgbToLinear(v / 255.0);
+    for (int i = 0; i <= kEncodeSteps; ++i)
+      encode[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
+          std::lround(255.0 * linearToSrgb(static_cast<double>(i) / kEncodeSteps)));
+  }
+};
+
+const Tables& tables() {
+  static const Tables t;
+  return t;
+}
+
+}  // namespace
+
+double Srgb::toLinear(std::uint8_t value) {
+  return tables().linear[value];
+}
+
+std::uint8_t Srgb::fromLinear(double l) {
+  return tables()
+      .encode[static_cast<std::size_t>(std::lround(std::clamp(l, 0.0, 1.0) * kEncodeSteps))];
 }
 
 Exposure::Exposure(double gain, double read_noise_dn, double shot_noise_dn)
     : gain_(gain),
       read2_(read_noise_dn * read_noise_dn),
-      shot2_(shot_noise_dn * shot_noise_dn / 255.0),
-      encode_(kEncodeSteps + 1) {
-  for (int i = 0; i <= kEncodeSteps; ++i)
-    encode_[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
-        std::lround(255.0 * linearToSrgb(static_cast<double>(i) / kEncodeSteps)));
-  for (int v = 0; v < 256; ++v)
-    linear_[static_cast<std::size_t>(v)] = 255.0 * srgbToLinear(v / 255.0);
-}
+      shot2_(shot_noise_dn * shot_noise_dn / 255.0) {}
 
 std::uint8_t Exposure::operator()(std::uint8_t srgb, double z) const {
-  double v = gain_ * linear_[srgb];
+  double v = gain_ * 255.0 * Srgb::toLinear(srgb);
   if (noisy())
     v += std::sqrt(read2_ + shot2_ * std::min(v, 255.0)) * z;
-  const double l = std::clamp(v / 255.0, 0.0, 1.0);
-  return encode_[static_cast<std::size_t>(std::lround(l * kEncodeSteps))];
+  return Srgb::fromLinear(v / 255.0);
 }
 
 }  // namespace trainsim::camera

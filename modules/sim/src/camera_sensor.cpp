@@ -367,7 +367,10 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   void applyFog(camera::CameraImages& img) const {
     const double beta = 3.912 / config_.fog_visibility_m;
     const camera::Intrinsics& k = renderer_.options().intrinsics;
-    constexpr double kFog[3] = {200.0, 204.0, 208.0};
+    // Koschmieder's blend of the object's light and the fog's, in linear light.
+    constexpr std::uint8_t kFog[3] = {200, 204, 208};
+    const double fog[3] = {camera::Srgb::toLinear(kFog[0]), camera::Srgb::toLinear(kFog[1]),
+                           camera::Srgb::toLinear(kFog[2])};
     for (int v = 0; v < img.height; ++v)
       for (int u = 0; u < img.width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * img.width + u;
@@ -376,7 +379,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         const double keep = z > 0.0 ? std::exp(-beta * z * std::sqrt(1.0 + x * x + y * y)) : 0.0;
         for (int ch = 0; ch < 3; ++ch) {
           std::uint8_t& c = img.rgb[3 * i + ch];
-          c = static_cast<std::uint8_t>(std::lround(keep * c + (1.0 - keep) * kFog[ch]));
+          c = camera::Srgb::fromLinear(keep * camera::Srgb::toLinear(c) + (1.0 - keep) * fog[ch]);
         }
       }
   }

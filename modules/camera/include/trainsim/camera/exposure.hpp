@@ -1,10 +1,15 @@
 #pragma once
 // Exposure and sensor noise on an 8-bit sRGB image, worked in linear light.
-#include <array>
 #include <cstdint>
-#include <vector>
 
 namespace trainsim::camera {
+
+/// 8-bit sRGB values to linear light (0..1) and back, by tables made once.
+struct Srgb {
+  static double toLinear(std::uint8_t value);
+  /// The nearest 8-bit value of linear light `l` (clamped to 0..1).
+  static std::uint8_t fromLinear(double l);
+};
 
 /// Develops 8-bit sRGB values: each is decoded to linear light (IEC 61966-2-1), multiplied by
 /// the exposure's gain (2 for one stop more), given Gaussian sensor noise in linear 8-bit steps
@@ -23,8 +28,6 @@ class Exposure {
 
  private:
   double gain_, read2_, shot2_;
-  std::array<double, 256> linear_{};  // sRGB value -> linear 0..255
-  std::vector<std::uint8_t> encode_;  // linear 0..1 in 65535 steps -> sRGB value
 };
 
 /// sRGB decoding and encoding of one channel, 0..1 both ways.

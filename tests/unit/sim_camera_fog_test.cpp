@@ -1,0 +1,100 @@
+// Fog on a camera's colour image: Koschmieder's law, the object's light blended with the fog's
+// by exp(-3.912 d / V) over the pixel's range d, in linear light. Checked against a second
+// camera on the same mount without fog, read back from the files with the float depth and P2.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "trainsim/camera/exposure.hpp"
+#include "trainsim/io/file_io.hpp"
+#include "trainsim/io/png.hpp"
+#include "trainsim/sim/generate.hpp"
+#include "trainsim/sim/schema.hpp"
+
+namespace trainsim::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
+  constexpr double kVisibility = 150.0;
+  const scenario::Json camera = {
+      {"width", 200}, {"height", 64}, {"period_ns", 1'000'000'000}, {"depth_float", true}};
+  scenario::Json foggy = camera;
+  foggy["fog_visibility_m"] = kVisibility;
+  const scenario::Json input = {
+      {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
+      {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
+      {"dataset", {{"frame_period_ns", 1'000'000'000}}},
+      {"sensors", {{"cameras", {camera, foggy}}}}};
+  const fs::path out = fs::temp_directory_path() / fmt::format("trainsim_fog_{}", ::getpid());
+  fs::remove_all(out);
+  GenerateOptions options;
+  options.out = out;
+  generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+  const fs::path seq = out / "sequences" / "00";
+  const io::PngImage clear = io::decodePng(fileBytes(seq / "image_2" / "000000.png"));
+  const io::PngImage fog = io::decodePng(fileBytes(seq / "image_3" / "000000.png"));
+  // The float depth (PFM: a header, then rows bottom to top), 0 where nothing is drawn.
+  const std::string pfm = fileBytes(seq / "depth_2" / "000000.pfm");
+  const std::string header = fmt::format("Pf\n{} {}\n-1.0\n", clear.width, clear.height);
+  ASSERT_EQ(pfm.substr(0, header.size()), header);
+  const auto depthAt = [&](int u, int v) {
+    float z = 0.0f;
+    const std::size_t row = static_cast<std::size_t>(clear.height - 1 - v);
+    std::memcpy(&z, pfm.data() + header.size() + 4 * (row * clear.width + u), 4);
+    return static_cast<double>(z);
+  };
+  // P2 = K [I | 0] for camera 0: fx, cx on the first row, fy, cy on the second.
+  double fx = 0, cx = 0, fy = 0, cy = 0;
+  std::istringstream calib(fileBytes(seq / "calib.txt"));
+  for (std::string line; std::getline(calib, line);)
+    if (line.starts_with("P2:")) {
+      std::istringstream row(line.substr(3));
+      double p[12];
+      for (double& v : p)
+        row >> v;
+      fx = p[0], cx = p[2], fy = p[5], cy = p[6];
+    }
+  fs::remove_all(out);
+  ASSERT_GT(fx, 0.0);
+  ASSERT_EQ(clear.samples8.size(), fog.samples8.size());
+  const std::uint8_t kFog[3] = {200, 204, 208};
+  int ground = 0, sky = 0;
+  for (int v = 0; v < clear.height; ++v)
+    for (int u = 0; u < clear.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * clear.width + u;
+      const double z = depthAt(u, v);  // along the optical axis; 0: nothing drawn (sky)
+      const double x = (u - cx) / fx, y = (v - cy) / fy;
+      const double keep =
+          z > 0.0 ? std::exp(-3.912 * z * std::sqrt(1 + x * x + y * y) / kVisibility) : 0.0;
+      ++(z > 0.0 ? ground : sky);
+      for (int ch = 0; ch < 3; ++ch) {
+        const auto c0 = static_cast<std::uint8_t>(clear.samples8[3 * i + ch]);
+        const double light =
+            keep * camera::Srgb::toLinear(c0) + (1.0 - keep) * camera::Srgb::toLinear(kFog[ch]);
+        const int want = camera::Srgb::fromLinear(light);
+        // Rounding to 8 bits on both sides: at most one step.
+        ASSERT_NEAR(static_cast<std::uint8_t>(fog.samples8[3 * i + ch]), want, 1)
+            << "pixel " << u << ", " << v << " at " << z << " m";
+      }
+    }
+  EXPECT_GT(ground, 1000);
+  EXPECT_GT(sky, 1000);
+}
+
+}  // namespace
+}  // namespace trainsim::sim
