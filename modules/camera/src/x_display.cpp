@@ -41,7 +41,8 @@ bool reachable(const char* name) {
   return true;
 }
 
-// The executable `file` on PATH, or empty.
+// The executable `file` on PATH, or empty. Looked up before fork: execvp would search PATH
+// itself, but it may allocate, which a forked child of a threaded process must not.
 std::string onPath(const std::string& file) {
   const char* path = std::getenv("PATH");
   std::istringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
