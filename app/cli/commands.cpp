@@ -5,11 +5,13 @@
 #include <csignal>
 #include <iostream>
 #include <optional>
+#include <vector>
 
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/progress.hpp"
+#include "trainsim/evaluation/odometry.hpp"
 #include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/io/dataset_writer.hpp"
 #include "trainsim/io/file_io.hpp"
@@ -46,6 +48,14 @@ struct PlanArgs : CommonOptions {
   bool scene = false;
   double scene_from_m = 0.0;
   double scene_to_m = 1000.0;
+};
+
+struct EvaluateArgs {
+  std::string gt, est, calib;
+  std::vector<double> lengths = evaluation::EvaluateOptions{}.lengths_m;
+  std::size_t step = 10;
+  double eod_from_m = 10.0;
+  bool json = false;
 };
 
 struct GenerateArgs : CommonOptions {
@@ -162,6 +172,23 @@ void runValidate(const std::string& path) {
   }
 }
 
+// Odometry metrics of an estimate against the ground truth, both KITTI poses files: the
+// devkit's segment errors and the paper's TEX, TEY and EOD, on standard output.
+void runEvaluate(const EvaluateArgs& args) {
+  const evaluation::Poses gt = evaluation::readKittiPoses(args.gt);
+  const evaluation::Poses est = evaluation::readKittiPoses(args.est);
+  std::optional<evaluation::Pose> tr;
+  if (!args.calib.empty())
+    tr = evaluation::readKittiTr(args.calib);
+  evaluation::EvaluateOptions options;
+  options.lengths_m = args.lengths;
+  options.step = args.step;
+  options.eod_from_m = args.eod_from_m;
+  options.tr = tr ? &*tr : nullptr;
+  const evaluation::Report report = evaluation::evaluate(gt, est, options);
+  std::cout << (args.json ? evaluation::json(report) : evaluation::markdown(report));
+}
+
 }  // namespace
 
 int commandExitCode() {
@@ -225,6 +252,35 @@ void addCommands(CLI::App& app) {
   validate->add_option("SCENARIO", validate_path, "Scenario JSON file, '-' for standard input")
       ->required();
   validate->callback([] { runValidate(validate_path); });
+
+  // evaluate
+  static EvaluateArgs evaluate;
+  CLI::App* evaluate_cmd = app.add_subcommand(
+      "evaluate",
+      "Odometry metrics of an estimated trajectory against the ground truth (KITTI poses "
+      "files): the KITTI devkit's segment errors and the TrainSim paper's TEX, TEY and EOD");
+  evaluate_cmd->add_option("--gt", evaluate.gt, "Ground-truth poses (a dataset's poses.txt)")
+      ->required();
+  evaluate_cmd->add_option("--est", evaluate.est, "Estimated poses, one line per frame")
+      ->required();
+  evaluate_cmd->add_option("--calib", evaluate.calib,
+                           "calib.txt: TEX, TEY and EOD in the velodyne's axes (its Tr), not "
+                           "the vehicle's");
+  evaluate_cmd
+      ->add_option("--lengths", evaluate.lengths,
+                   "Segment lengths (m), comma-separated; the devkit's by default")
+      ->delimiter(',')
+      ->capture_default_str();
+  evaluate_cmd->add_option("--step", evaluate.step, "Frames between segment starts")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1'000'000'000}))
+      ->capture_default_str();
+  evaluate_cmd
+      ->add_option("--eod-from", evaluate.eod_from_m,
+                   "Path length (m) from which EOD is counted (near the start it divides by "
+                   "next to nothing)")
+      ->capture_default_str();
+  evaluate_cmd->add_flag("--json", evaluate.json, "One JSON object instead of Markdown tables");
+  evaluate_cmd->callback([] { runEvaluate(evaluate); });
 
   // defaults
   app.add_subcommand("defaults", "Print the built-in default scenario with every parameter")

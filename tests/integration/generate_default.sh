@@ -37,6 +37,17 @@ for d in image_2 depth_2 semantic_2 instance_2; do
 done
 [ "$(cut -d: -f1 "$WORK/a/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr " ] &&
   pass "calib.txt: P0 P1 P2 P3 Tr" || fail "calib.txt keys: $(cut -d: -f1 "$WORK/a/sequences/00/calib.txt")"
+# evaluate reads the dataset's own poses.txt and calib.txt (its Tr): against itself, no error.
+S="$WORK/a/sequences/00"
+expect_exit 0 "evaluate poses.txt against itself" -- "$TRAINSIM" evaluate --gt "$S/poses.txt" \
+  --est "$S/poses.txt" --calib "$S/calib.txt" --json
+python3 -c "
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r['frames'] == 305 and r['paper']['axes'] == 'velodyne', r
+assert r['kitti']['all']['segments'] > 0 and r['kitti']['all']['translation_percent'] == 0, r
+assert r['paper']['tex_m']['max'] < 1e-9 and r['paper']['eod_percent']['max'] < 1e-9, r
+" "$WORK/out" && pass "evaluate: a dataset against itself has no error" || fail "evaluate on the dataset"
 # Cross-sensor: the LiDAR's points projected through calib.txt land on semantic_2 pixels of
 # their own class (>= 95 % of those in view; every 15th frame, read by the test's own readers).
 export TESTS_DIR="$(cd "$(dirname "$0")" && pwd)"
