@@ -2,7 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <vector>
@@ -189,6 +194,68 @@ void runEvaluate(const EvaluateArgs& args) {
   std::cout << (args.json ? evaluation::json(report) : evaluation::markdown(report));
 }
 
+// `trainsim bench`: the project's benchmarks (bench/), each a program built beside trainsim,
+// run one after another with their tables on standard output. They stay separate programs
+// because each links what it measures (Embree, VTK, the studio) and `make bench` runs them the
+// same way; --quick runs the run-time-against-error tables of the fidelity knobs on the default
+// scene only.
+void runBench(bool quick) {
+  struct Bench {
+    const char* name;
+    std::vector<std::string> quick_args;  // what --quick passes it
+    bool in_quick;
+  };
+  const std::vector<Bench> benches = {
+      {"bench_alignment", {}, true},        // quadrature tolerance → position error → time
+      {"bench_imu", {}, true},              // the IMU's error chain: samples per second
+      {"bench_lidar", {"--quick"}, true},   // frame against raw traversal; sub-rays → wire hits
+      {"bench_camera", {"--quick"}, true},  // ms per frame: culling, level of detail, PNG
+      {"bench_environment", {"--quick"}, true},
+      {"bench_route", {}, false},
+      {"bench_run_loop", {}, false},
+      {"bench_plan_memory", {}, false},
+      {"bench_studio_plan", {}, false},
+  };
+  const std::filesystem::path dir = std::filesystem::read_symlink("/proc/self/exe").parent_path();
+  int ran = 0;
+  for (const Bench& b : benches) {
+    if (quick && !b.in_quick)
+      continue;
+    const std::filesystem::path program = dir / b.name;
+    if (!std::filesystem::exists(program)) {
+      logWarn(fmt::format("bench: {} is not built (it needs the part of TrainSim it measures)",
+                          program.string()));
+      continue;
+    }
+    std::vector<std::string> args = {program.string()};
+    if (quick)
+      args.insert(args.end(), b.quick_args.begin(), b.quick_args.end());
+    std::vector<char*> argv;
+    for (std::string& a : args)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    std::cout << fmt::format("\n## {}{}\n", b.name,
+                             quick && !b.quick_args.empty() ? " --quick" : "")
+              << std::flush;
+    pid_t pid = 0;
+    if (const int e = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ); e != 0)
+      throw RuntimeError(systemErrorMessage("bench: cannot start", program.string(), e));
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+      throw RuntimeError(fmt::format("bench: {} failed ({})", b.name,
+                                     WIFEXITED(status)
+                                         ? fmt::format("exit {}", WEXITSTATUS(status))
+                                         : fmt::format("signal {}", WTERMSIG(status))));
+    ++ran;
+  }
+  if (ran == 0)
+    throw RuntimeError(fmt::format(
+        "bench: no benchmark program beside {}: they are built with the project (make build)",
+        dir.string()));
+}
+
 }  // namespace
 
 int commandExitCode() {
@@ -281,6 +348,16 @@ void addCommands(CLI::App& app) {
       ->capture_default_str();
   evaluate_cmd->add_flag("--json", evaluate.json, "One JSON object instead of Markdown tables");
   evaluate_cmd->callback([] { runEvaluate(evaluate); });
+
+  // bench
+  static bool bench_quick = false;
+  CLI::App* bench = app.add_subcommand(
+      "bench",
+      "Run the benchmarks: run time against error for the main fidelity knobs, each as a ratio "
+      "to a baseline measured in the same run (docs/PERFORMANCE.md)");
+  bench->add_flag("--quick", bench_quick,
+                  "The fidelity knobs' tables on the default scene only (a few minutes)");
+  bench->callback([] { runBench(bench_quick); });
 
   // defaults
   app.add_subcommand("defaults", "Print the built-in default scenario with every parameter")

@@ -5,7 +5,7 @@ expect_exit 0 "defaults | validate -" -- bash -c "\"$TRAINSIM\" defaults | \"$TR
 expect_exit 0 "validate the default config file" -- "$TRAINSIM" validate "$SRC/configs/default.json"
 expect_exit 0 "schema" -- "$TRAINSIM" schema
 expect_contains "$WORK/out" '| `trajectory.sample_period_ns` | integer | ns |' "schema lists T_S"
-for cmd in generate plan validate defaults schema evaluate; do
+for cmd in generate plan validate defaults schema evaluate bench; do
   expect_exit 0 "$cmd --help" -- "$TRAINSIM" "$cmd" --help
 done
 expect_exit 0 "--version" -- "$TRAINSIM" --version
@@ -146,4 +146,24 @@ expect_contains "$WORK/err" "$WORK/none.txt: No such file or directory" "the mis
 expect_exit 2 "evaluate: no Tr in calib" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --calib "$WORK/gt.txt"
 expect_exit 2 "evaluate: a bad --step" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --step 0
 expect_exit 2 "evaluate without --est" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt"
+# `bench` runs the benchmark programs found beside the binary, in order, and stops at the first
+# that fails: checked with a copy of trainsim beside stand-in programs (the real ones take
+# minutes; `make bench` and PERFORMANCE.md cover them).
+mkdir -p "$WORK/benchdir"
+cp "$TRAINSIM" "$WORK/benchdir/trainsim"
+expect_exit 1 "bench with no benchmark built" -- "$WORK/benchdir/trainsim" bench --quick
+expect_contains "$WORK/err" "no benchmark program beside" "bench says none is built"
+printf '#!/bin/sh\necho "alignment table $*"\n' > "$WORK/benchdir/bench_alignment"
+printf '#!/bin/sh\necho "lidar table $*"\n' > "$WORK/benchdir/bench_lidar"
+printf '#!/bin/sh\necho "route table $*"\n' > "$WORK/benchdir/bench_route"
+chmod +x "$WORK/benchdir/bench_alignment" "$WORK/benchdir/bench_lidar" "$WORK/benchdir/bench_route"
+expect_exit 0 "bench --quick" -- "$WORK/benchdir/trainsim" bench --quick
+[ "$(grep table "$WORK/out" | tr '\n' '|')" = "alignment table |lidar table --quick|" ] &&
+  pass "bench --quick runs the quick set with --quick" || fail "bench --quick ran: $(cat "$WORK/out")"
+expect_exit 0 "bench" -- "$WORK/benchdir/trainsim" bench
+[ "$(grep table "$WORK/out" | tr '\n' '|')" = "alignment table |lidar table |route table |" ] &&
+  pass "bench runs every benchmark" || fail "bench ran: $(cat "$WORK/out")"
+printf '#!/bin/sh\nexit 3\n' > "$WORK/benchdir/bench_lidar"
+expect_exit 1 "bench with a failing benchmark" -- "$WORK/benchdir/trainsim" bench
+expect_contains "$WORK/err" "bench_lidar failed (exit 3)" "the failing benchmark is named"
 finish
