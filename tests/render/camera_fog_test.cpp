@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +13,8 @@
 #include <string>
 
 #include <fmt/format.h>
+
+#include <Eigen/Core>
 
 #include "trainsim/camera/exposure.hpp"
 #include "trainsim/io/file_io.hpp"
@@ -59,16 +62,33 @@ TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
     return static_cast<double>(z);
   };
   // P2 = K [I | 0] for camera 0: fx, cx on the first row, fy, cy on the second.
+  // This run has cameras only: calib.txt still carries a Tr (KITTI's readers need one), from
+  // the vehicle's body frame, whose forward axis is the forward-looking camera's z.
   double fx = 0, cx = 0, fy = 0, cy = 0;
+  Eigen::Matrix<double, 3, 4> tr = Eigen::Matrix<double, 3, 4>::Zero();
   std::istringstream calib(fileBytes(seq / "calib.txt"));
-  for (std::string line; std::getline(calib, line);)
-    if (line.starts_with("P2:")) {
-      std::istringstream row(line.substr(3));
-      double p[12];
+  for (std::string line; std::getline(calib, line);) {
+    const auto numbers = [&](std::size_t skip) {
+      std::istringstream row(line.substr(skip));
+      std::array<double, 12> p{};
       for (double& v : p)
         row >> v;
+      return p;
+    };
+    if (line.starts_with("P2:")) {
+      const auto p = numbers(3);
       fx = p[0], cx = p[2], fy = p[5], cy = p[6];
     }
+    if (line.starts_with("Tr:")) {
+      const auto p = numbers(3);
+      tr = Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(p.data());
+    }
+  }
+  EXPECT_LT((tr.leftCols<3>().transpose() * tr.leftCols<3>() - Eigen::Matrix3d::Identity())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-9);
+  EXPECT_GT((tr.leftCols<3>() * Eigen::Vector3d::UnitX()).z(), 0.9);
   fs::remove_all(out);
   ASSERT_GT(fx, 0.0);
   ASSERT_EQ(clear.samples8.size(), fog.samples8.size());

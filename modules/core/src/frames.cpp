@@ -1,5 +1,9 @@
 #include "trainsim/core/frames.hpp"
 
+#include <fmt/format.h>
+
+#include <iterator>
+
 namespace trainsim {
 
 Eigen::Matrix3d attitude(double yaw_rad, double pitch_rad, double roll_rad) {
@@ -29,6 +33,14 @@ Eigen::Matrix3d rotationBodyFromKittiVelodyne() {
 Eigen::Isometry3d kittiTr(const Eigen::Isometry3d& T_body_cam,
                           const Eigen::Isometry3d& T_body_velo) {
   return T_body_cam.inverse() * T_body_velo;
+}
+
+std::string kittiCalibLine(std::string_view key, const Eigen::Matrix<double, 3, 4>& m) {
+  std::string line = fmt::format("{}:", key);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c)
+      fmt::format_to(std::back_inserter(line), " {:.12e}", m(r, c));
+  return line;
 }
 
 }  // namespace trainsim

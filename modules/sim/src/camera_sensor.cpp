@@ -315,13 +315,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   std::vector<std::string> calibration() const override {
     const Eigen::Isometry3d T_cam_cam0 = T_body_cam_.inverse() * T_body_cam0_;
     const Eigen::Matrix<double, 3, 4> P = intrinsics_.matrix() * T_cam_cam0.matrix().topRows<3>();
-    const auto line = [&](int n) {
-      std::string s = fmt::format("P{}:", n);
-      for (int r = 0; r < 3; ++r)
-        for (int col = 0; col < 4; ++col)
-          fmt::format_to(std::back_inserter(s), " {:.12e}", P(r, col));
-      return s;
-    };
+    const auto line = [&](int n) { return kittiCalibLine(fmt::format("P{}", n), P); };
     std::vector<std::string> lines;
     if (index_ == 0) {
       lines.push_back(line(0));

@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "classes_yaml.hpp"
 #include "trainsim/camera/x_display.hpp"
 #include "trainsim/core/cancel.hpp"
+#include "trainsim/core/frames.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/version.hpp"
 #include "trainsim/environment/environment.hpp"
@@ -76,6 +79,18 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
   for (const auto& sensor : sensors)
     for (const std::string& line : sensor->calibration())
       lines.push_back(line);
+  // A camera-only run: KITTI's readers (pykitti's odometry loader) need a Tr, so the vehicle's
+  // body frame (x forward, y left, z up: the axes a KITTI velodyne has) stands in for the
+  // velodyne it does not have.
+  const auto has = [&](std::string_view key) {
+    return std::any_of(lines.begin(), lines.end(),
+                       [&](const std::string& line) { return line.starts_with(key); });
+  };
+  if (has("P0:") && !has("Tr:"))
+    lines.push_back(kittiCalibLine(
+        "Tr", kittiTr(referenceCameraPose(scenario.json()), Eigen::Isometry3d::Identity())
+                  .matrix()
+                  .topRows<3>()));
   const auto rank = [](const std::string& line) {
     return line.starts_with("P")    ? std::stoi(line.substr(1))
            : line.starts_with("Tr") ? 1 << 20

@@ -401,13 +401,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
   }
 
   std::vector<std::string> calibration() const override {
-    const Eigen::Matrix<double, 3, 4> m =
-        kittiTr(T_body_cam0_, T_body_sensor_).matrix().topRows<3>();
-    std::string line = index_ == 0 ? "Tr:" : fmt::format("Tr_{}:", index_);
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 4; ++col)
-        fmt::format_to(std::back_inserter(line), " {:.12e}", m(r, col));
-    return {line};
+    return {kittiCalibLine(index_ == 0 ? "Tr" : fmt::format("Tr_{}", index_),
+                           kittiTr(T_body_cam0_, T_body_sensor_).matrix().topRows<3>())};
   }
 
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {

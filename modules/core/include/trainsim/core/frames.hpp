@@ -5,6 +5,8 @@
 // them. Sources: docs/REFERENCES.md.
 
 #include <numbers>
+#include <string>
+#include <string_view>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -46,5 +48,9 @@ Eigen::Matrix3d rotationBodyFromKittiVelodyne();
 /// p_cam = Tr · p_velo, i.e. Tr = T_cam_velo = T_body_cam⁻¹ · T_body_velo.
 Eigen::Isometry3d kittiTr(const Eigen::Isometry3d& T_body_cam,
                           const Eigen::Isometry3d& T_body_velo);
+
+/// A calib.txt line as KITTI writes one: "`key`: " and the 3 × 4 matrix row by row, each value
+/// with 13 significant digits ("Tr: 4.276802385584e-04 -9.999672484946e-01 …").
+std::string kittiCalibLine(std::string_view key, const Eigen::Matrix<double, 3, 4>& m);
 
 }  // namespace trainsim
