@@ -50,7 +50,7 @@ TEST(Terrain, HeightsFollowTheBlendAgainstABruteForceReference) {
   const auto segments = allSegments(w);
   const terrain::TerrainParams& P = w.env().params().terrain;
   const RandomStream pick(7, "test.terrain.points");
-  int near = 0, blend = 0, far = 0;
+  int near = 0, blend = 0, far = 0, station = 0;
   for (std::uint64_t k = 0; k < 1500; ++k) {
     // Points along the route, up to 60 m to either side, away from bridges and tunnels.
     const auto u = pick.uniform4(k);
@@ -63,30 +63,76 @@ TEST(Terrain, HeightsFollowTheBlendAgainstABruteForceReference) {
     if (parts.valley != 0.0 || std::isfinite(parts.d_tunnel))
       continue;
     const Nearest n = nearest(segments, p, false);
+    const Nearest ns = nearestStation(segments, p);
     const double reach = std::max(P.d_far_m, P.d_near_station_m);
+    const double widen = std::max(0.0, P.d_near_station_m - P.d_near_m);
     if (n.d <= reach) {
       ASSERT_NEAR(parts.d_open, n.d, 1e-9);
       ASSERT_NEAR(parts.z_open, n.z, 1e-9);
     }
+    if (ns.d <= P.d_far_m + widen) {
+      ASSERT_NEAR(parts.d_station, ns.d, 1e-9);
+      ASSERT_NEAR(parts.z_station, ns.z, 1e-9);
+      ++station;
+    }
     EXPECT_NEAR(parts.noise, referenceNoise(P, w.scenario.seed(), p.x(), p.y()), 1e-9);
-    const double d_near =
-        n.type == track::LayoutBlockType::kStation ? P.d_near_station_m : P.d_near_m;
-    const double formation = n.z - P.formation_depth_m;
-    if (n.d <= d_near) {
+    // A station's track counts as `widen` nearer than it is.
+    const bool by_station = ns.d - widen < n.d;
+    const double d = by_station ? ns.d - widen : n.d;
+    const double formation = (by_station ? ns.z : n.z) - P.formation_depth_m;
+    if (d <= P.d_near_m) {
       ++near;
       EXPECT_NEAR(h, formation, 1e-9);
-    } else if (n.d >= P.d_far_m) {
+    } else if (d >= P.d_far_m) {
       ++far;
       EXPECT_NEAR(h, parts.far, 1e-9);
     } else {
       ++blend;
-      const double wgt = (n.d - d_near) / (P.d_far_m - d_near);
+      const double wgt = (d - P.d_near_m) / (P.d_far_m - P.d_near_m);
       EXPECT_NEAR(h, (1 - wgt) * formation + wgt * parts.far, 1e-9);
     }
   }
   EXPECT_GT(near, 50);
   EXPECT_GT(blend, 300);
   EXPECT_GT(far, 300);
+  EXPECT_GT(station, 20);
+}
+
+// Where a station ends the ground leaves its wider formation smoothly: along lines beside the
+// main track across each station's ends, no step between heights 0.5 m apart beyond what the
+// blend's own slope gives. (Deciding the formation's width by the block of the nearest track
+// point made a step there: 1.2 m at 12 m from the default route's station.)
+TEST(Terrain, NoStepWhereAStationEnds) {
+  const World& w = defaultWorld();
+  int ends = 0;
+  double worst = 0.0;
+  for (const terrain::Structure& s : w.railway().structures()) {
+    if (s.type != track::BlockType::kStation)
+      continue;
+    for (const double end : {s.chainage_begin_m, s.chainage_end_m}) {
+      ++ends;
+      for (const double lateral : {-20.0, -14.0, -11.0, -8.0, 8.0, 11.0, 14.0, 20.0}) {
+        double previous = std::numeric_limits<double>::quiet_NaN();
+        for (double x = end - 40.0; x <= end + 40.0; x += 0.5) {
+          const track::TrackFrame f = w.railway().frame(0, x);
+          const Eigen::Vector2d p = f.position.head<2>() + lateral * f.left.head<2>().normalized();
+          terrain::HeightParts parts;
+          const double h = w.env().terrain().heightAt(p.x(), p.y(), &parts);
+          if (parts.valley != 0.0 || std::isfinite(parts.d_tunnel)) {
+            previous = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
+          if (!std::isnan(previous))
+            worst = std::max(worst, std::abs(h - previous));
+          previous = h;
+        }
+      }
+    }
+  }
+  EXPECT_GT(ends, 0);
+  // The blend's slope: the ground's gap between formation and noise height over the blend's
+  // 26.5 m, times the 0.5 m step (and the noise's own slope): a few centimetres.
+  EXPECT_LT(worst, 0.15) << "largest change between neighbours 0.5 m apart";
 }
 
 TEST(Terrain, TheRegionalLevelIsTheWeightedTrackFormation) {

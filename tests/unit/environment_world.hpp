@@ -80,6 +80,14 @@ inline Nearest nearest(const std::vector<Segment>& segments, const Eigen::Vector
   return n;
 }
 
+inline Nearest nearestStation(const std::vector<Segment>& segments, const Eigen::Vector2d& p) {
+  std::vector<Segment> stations;
+  for (const Segment& s : segments)
+    if (s.type == track::LayoutBlockType::kStation)
+      stations.push_back(s);
+  return nearest(stations, p, false);
+}
+
 // All tiles of the default route, made once for the geometry tests.
 inline const std::vector<std::shared_ptr<const scene::Tile>>& allTiles() {
   static const auto tiles = [] {

@@ -80,8 +80,9 @@ struct Terrain::Field {
   bool global = true;  // positions from global indices (tiles) or from x0, y0 (one point)
   double spacing = 1.0;
   int nx = 1, ny = 1;
-  std::vector<double> d_open, z_open, d_tunnel, z_tunnel, far, noise, valley, height;
-  std::vector<std::uint8_t> station, bore;
+  std::vector<double> d_open, z_open, d_station, z_station, d_tunnel, z_tunnel, far, noise, valley,
+      height;
+  std::vector<std::uint8_t> bore;
   std::vector<float> skirt;
 
   double x(int c) const { return global ? static_cast<double>(gx + c) * spacing : x0; }
@@ -114,7 +115,8 @@ void Terrain::fill(Field& f) const {
   const std::size_t count = static_cast<std::size_t>(f.nx) * f.ny;
   f.d_open.assign(count, kInf);
   f.z_open.assign(count, 0.0);
-  f.station.assign(count, 0);
+  f.d_station.assign(count, kInf);
+  f.z_station.assign(count, 0.0);
   f.d_tunnel.assign(count, kInf);
   f.z_tunnel.assign(count, 0.0);
   const Eigen::Vector2d lo(f.x(0), f.y(0)), hi(f.x(f.nx - 1), f.y(f.ny - 1));
@@ -124,9 +126,12 @@ void Terrain::fill(Field& f) const {
   // then chainage order and a tie keeps the first, so a vertex gets the same answer in every
   // tile that contains it.
   const double reach_open = std::max(P.d_far_m, P.d_near_station_m);
+  // A station's track counts as `widen` nearer (step 5), so its blend reaches that much further.
+  const double widen = std::max(0.0, P.d_near_station_m - P.d_near_m);
+  const double reach_station = std::max(reach_open, P.d_far_m + widen);
   const double reach_tunnel =
       P.tunnel_half_width_m + (P.tunnel_crown_m + P.tunnel_cover_m) / P.hill_slope;
-  const double reach = std::max(reach_open, reach_tunnel);
+  const double reach = std::max(reach_station, reach_tunnel);
   for (const Stretch& s : railway_->stretchesNear(lo, hi, reach + f.spacing)) {
     throwIfCancelled();
     const track::Polyline line = railway_->polyline(s);
@@ -137,7 +142,7 @@ void Terrain::fill(Field& f) const {
           railway_->typeAt(s.track, 0.5 * (line.distance_m[k] + line.distance_m[k + 1]));
       const bool tunnel = type == track::LayoutBlockType::kTunnel;
       const bool station = type == track::LayoutBlockType::kStation;
-      const double r = tunnel ? reach_tunnel : reach_open;
+      const double r = tunnel ? reach_tunnel : station ? reach_station : reach_open;
       // Vertex index range covering the segment's box grown by its reach.
       const auto col = [&](double x) { return (x - lo.x()) / f.spacing; };
       const auto row = [&](double y) { return (y - lo.y()) / f.spacing; };
@@ -160,10 +165,15 @@ void Terrain::fill(Field& f) const {
               f.d_tunnel[i] = d;
               f.z_tunnel[i] = z;
             }
-          } else if (d < f.d_open[i]) {
-            f.d_open[i] = d;
-            f.z_open[i] = z;
-            f.station[i] = station ? 1 : 0;
+          } else {
+            if (d < f.d_open[i] && d <= reach_open) {
+              f.d_open[i] = d;
+              f.z_open[i] = z;
+            }
+            if (station && d < f.d_station[i]) {
+              f.d_station[i] = d;
+              f.z_station[i] = z;
+            }
           }
         }
     }
@@ -267,22 +277,30 @@ void Terrain::fill(Field& f) const {
   f.bore.assign(count, 0);
   f.skirt.assign(count, 0.0f);
   for (std::size_t i = 0; i < count; ++i) {
-    const double d_near = f.station[i] ? P.d_near_station_m : P.d_near_m;
-    const double formation = f.z_open[i] - P.formation_depth_m;
+    // The distance the blend follows: to the nearest track, or to the nearest station track
+    // less `widen` (stations keep d_near_station_m of formation for their platforms), whichever
+    // is less. Both are continuous in the plane, so the ground has no step where a station
+    // ends; a flag of the nearest track point's block made one (1.2 m at the default route's).
+    double d = f.d_open[i], z = f.z_open[i];
+    if (f.d_station[i] - widen < d) {
+      d = f.d_station[i] - widen;
+      z = f.z_station[i];
+    }
+    const double d_near = P.d_near_m;
+    const double formation = z - P.formation_depth_m;
     double h;
-    if (f.d_open[i] <= d_near)
+    if (d <= d_near)
       h = formation;
-    else if (f.d_open[i] >= P.d_far_m)
+    else if (d >= P.d_far_m)
       h = f.far[i];
     else {
-      const double w = (f.d_open[i] - d_near) / (P.d_far_m - d_near);
+      const double w = (d - d_near) / (P.d_far_m - d_near);
       h = (1.0 - w) * formation + w * f.far[i];
     }
     if (f.d_tunnel[i] < kInf) {
       const double hill = f.z_tunnel[i] + P.tunnel_crown_m + P.tunnel_cover_m -
                           P.hill_slope * std::max(0.0, f.d_tunnel[i] - P.tunnel_half_width_m);
-      const double cut =
-          f.d_open[i] < kInf ? formation + P.cut_slope * std::max(0.0, f.d_open[i] - d_near) : kInf;
+      const double cut = d < kInf ? formation + P.cut_slope * std::max(0.0, d - d_near) : kInf;
       h = std::max(h, std::min(hill, cut));
     }
     f.height[i] = h - f.valley[i];
@@ -359,8 +377,8 @@ double Terrain::heightAt(double x, double y, HeightParts* parts) const {
   f.spacing = params_.spacing_m;
   fill(f);
   if (parts) {
-    *parts = {f.d_open[0],   f.z_open[0], f.station[0] != 0, f.d_tunnel[0],
-              f.z_tunnel[0], f.far[0],    f.noise[0],        f.valley[0]};
+    *parts = {f.d_open[0],   f.z_open[0], f.d_station[0], f.z_station[0], f.d_tunnel[0],
+              f.z_tunnel[0], f.far[0],    f.noise[0],     f.valley[0]};
   }
   return f.height[0];
 }

@@ -44,8 +44,13 @@ const scenario::Section<terrain::TerrainParams>& terrainSection() {
         .range(50, 5000);
     b.number("d_near_m", &T::d_near_m, kM, "Ground at the track's formation within this")
         .range(1.5, 50);
-    b.number("d_near_station_m", &T::d_near_station_m, kM, "The same in stations").range(1.5, 100);
-    b.number("d_far_m", &T::d_far_m, kM, "Noise height beyond this (linear blend in between)")
+    b.number("d_near_station_m", &T::d_near_station_m, kM,
+             "The same in stations (a station's track counts as d_near_station_m - d_near_m "
+             "nearer, so the ground leaves the formation smoothly past its ends)")
+        .range(1.5, 100);
+    b.number("d_far_m", &T::d_far_m, kM,
+             "Noise height beyond this (linear blend in between; from a station's track, that "
+             "much further)")
         .range(2, 200);
     b.number("formation_depth_m", &T::formation_depth_m, kM,
              "Top of rail down to the ground under the ballast")

@@ -18,11 +18,14 @@ namespace trainsim::terrain {
 /// The landscape generator's parameters (the paper's §Landscape Generation, with the valleys,
 /// tunnel cover and cuts it describes). Lengths in m.
 struct TerrainParams {
-  double spacing_m = 1.0;           ///< between height-map vertices
-  int tile_vertices = 1009;         ///< per side of a tile (the paper's 1009 × 1009)
-  double tile_margin_m = 250.0;     ///< tiles within this plan distance of a track exist
-  double d_near_m = 3.5;            ///< within this of a track the ground is at its formation
-  double d_near_station_m = 12.0;   ///< the same in stations (room for platforms)
+  double spacing_m = 1.0;        ///< between height-map vertices
+  int tile_vertices = 1009;      ///< per side of a tile (the paper's 1009 × 1009)
+  double tile_margin_m = 250.0;  ///< tiles within this plan distance of a track exist
+  double d_near_m = 3.5;         ///< within this of a track the ground is at its formation
+  /// The same in stations (room for platforms): a station's track counts as
+  /// d_near_station_m − d_near_m nearer, so the ground leaves the formation smoothly past the
+  /// station's ends rather than with a step.
+  double d_near_station_m = 12.0;
   double d_far_m = 30.0;            ///< beyond this the ground is the noise height
   double formation_depth_m = 0.75;  ///< top of rail down to the ground under the ballast
   // Fractal value noise: octaves of halving wavelength and `persistence`-scaled amplitude.
@@ -86,9 +89,10 @@ struct TerrainTile {
 
 /// What decided a vertex's height (for tests and previews).
 struct HeightParts {
-  double d_open = 0.0;    ///< plan distance to the nearest track outside tunnels (inf: none near)
-  double z_open = 0.0;    ///< that track point's height (top of rail)
-  bool station = false;   ///< that point lies in a station
+  double d_open = 0.0;     ///< plan distance to the nearest track outside tunnels (inf: none near)
+  double z_open = 0.0;     ///< that track point's height (top of rail)
+  double d_station = 0.0;  ///< plan distance to the nearest track in a station (inf: none near)
+  double z_station = 0.0;
   double d_tunnel = 0.0;  ///< plan distance to the nearest track in a tunnel (inf: none near)
   double z_tunnel = 0.0;
   double far = 0.0;  ///< regional level + noise
