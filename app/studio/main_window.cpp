@@ -23,6 +23,7 @@
 #include "design_view_3d.hpp"
 #include "inertial_panel.hpp"
 #include "plan_view_2d.hpp"
+#include "scan_view.hpp"
 #include "schema_form.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/io/dataset_layout.hpp"
@@ -58,6 +59,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   view2d_ = new PlanView2D;
   views_->addTab(view3d_, "3D design");
   views_->addTab(view2d_, "Plan");
+  scans_ = new ScanView;
+  scans_->setObjectName("scanView");
+  views_->addTab(scans_, "Scans and pictures");
 
   inertial_ = new InertialPanel;
   inertial_->setObjectName("inertialPanel");
@@ -389,6 +393,7 @@ void MainWindow::onRunFinished(int code, const QString& message, const QString& 
 bool MainWindow::openDataset(const QString& root) {
   try {
     inertial_->setDataset(root);
+    scans_->setDataset(root);  // says in its own status line when there is nothing to show
     return true;
   } catch (const std::exception& e) {
     showMessage("Cannot open dataset", root + " could not be read.", QString::fromUtf8(e.what()));

@@ -19,11 +19,12 @@ namespace trainsim::studio {
 class DesignView3D;
 class InertialPanel;
 class PlanView2D;
+class ScanView;
 class SchemaForm;
 
 /// The studio's main window: the generated parameter panels on the left, the design views
-/// (3D and plan; later terrain, point cloud and camera views) top right, the inertial plots
-/// and the design report below them, run controls in the tool bar and status bar.
+/// (3D and plan) and a dataset's scans and pictures with their labels top right, the inertial
+/// plots and the design report below them, run controls in the tool bar and status bar.
 class MainWindow : public QMainWindow {
   Q_OBJECT
 
@@ -38,7 +39,8 @@ class MainWindow : public QMainWindow {
   /// Starts generating the dataset into `out`; returns false if the scenario is invalid or a
   /// run is going (with a message).
   bool startRun(const QString& out, bool force);
-  /// Shows the sensor data of an existing dataset folder in the inertial panels.
+  /// Shows the sensor data of an existing dataset folder: the inertial panels, and its LiDAR
+  /// scans and camera pictures in the scan view.
   bool openDataset(const QString& root);
 
   ScenarioDocument* document() { return &doc_; }
@@ -46,6 +48,7 @@ class MainWindow : public QMainWindow {
   DesignView3D* view3d() const { return view3d_; }
   PlanView2D* view2d() const { return view2d_; }
   InertialPanel* inertial() const { return inertial_; }
+  ScanView* scans() const { return scans_; }
   QTabWidget* viewTabs() const { return views_; }
   QTableWidget* report() const { return report_; }
   QProgressBar* progressBar() const { return progress_; }
@@ -84,6 +87,7 @@ class MainWindow : public QMainWindow {
   DesignView3D* view3d_ = nullptr;
   PlanView2D* view2d_ = nullptr;
   InertialPanel* inertial_ = nullptr;
+  ScanView* scans_ = nullptr;
   QTableWidget* report_ = nullptr;
   QLineEdit* out_dir_ = nullptr;
   QProgressBar* progress_ = nullptr;

@@ -23,14 +23,18 @@
 #include <QTemporaryDir>
 #include <QToolButton>
 #include <QtTest>
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "design_view_3d.hpp"
 #include "inertial_panel.hpp"
 #include "main_window.hpp"
 #include "plan_view_2d.hpp"
+#include "scan_view.hpp"
 #include "schema_form.hpp"
+#include "trainsim/scene/semantics.hpp"
 #include "trainsim/sim/schema.hpp"
 
 using trainsim::studio::MainWindow;
@@ -298,6 +302,70 @@ class StudioGuiTest : public QObject {
     }
   }
 
+  // The run above opened its dataset in the scan view: its scans and pictures are shown with
+  // their labels, read back here by the test's own readers (KITTI's .bin, SemanticKITTI's
+  // .label, Qt's PNG reader), and a scan whose files disagree is reported, not drawn.
+  void theRunsScansAndPicturesAreShownWithTheirLabels() {
+    MainWindow& w = *window_;
+    trainsim::studio::ScanView* view = w.scans();
+    const QString seq = tmp_.filePath("run") + "/sequences/00";
+    QVERIFY(QFileInfo::exists(seq + "/velodyne/000000.bin"));
+    QCOMPARE(view->lidars(), QStringList{"velodyne"});
+    QCOMPARE(view->cameras(), QStringList{"image_2"});
+    QCOMPARE(view->frameCount(),
+             static_cast<int>(QDir(seq + "/velodyne").entryList(QDir::Files).size()));
+    view->setFrame(42);
+    const auto bytes = [](const QString& path) {
+      QFile f(path);
+      return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+    };
+    const QByteArray bin = bytes(seq + "/velodyne/000042.bin");
+    const QByteArray label = bytes(seq + "/labels/000042.label");
+    QVERIFY(bin.size() > 16 * 10000);
+    QCOMPARE(view->pointCount(), bin.size() / 16);
+    QCOMPARE(label.size() / 4, bin.size() / 16);
+    std::vector<std::uint32_t> words(static_cast<std::size_t>(label.size() / 4));
+    std::memcpy(words.data(), label.constData(), static_cast<std::size_t>(label.size()));
+    std::map<int, int> counts;
+    for (const std::uint32_t word : words)
+      ++counts[static_cast<int>(word & 0xFFFFu)];
+    QCOMPARE(view->classCounts(), counts);
+    QVERIFY(counts.size() >= 5);  // rails, sleepers, trackbed, terrain, poles at least
+    view->setColour(trainsim::studio::ScanView::Colour::kClass);
+    for (std::size_t i = 0; i < words.size(); i += 97)
+      QCOMPARE(view->pointColour(static_cast<int>(i)),
+               trainsim::scene::classes()[words[i] & 0xFFFFu].colour);
+    view->setColour(trainsim::studio::ScanView::Colour::kIntensity);
+    QVERIFY(view->pointColour(0) != trainsim::scene::classes()[words[0] & 0xFFFFu].colour ||
+            view->pointColour(97) != trainsim::scene::classes()[words[97] & 0xFFFFu].colour);
+
+    const QImage rgb(seq + "/image_2/000042.png");
+    QCOMPARE(view->picture().size(), rgb.size());
+    for (int k = 0; k < 50; ++k) {
+      const QPoint p((k * 131) % rgb.width(), (k * 71) % rgb.height());
+      QCOMPARE(view->picture().pixel(p), rgb.pixel(p));
+    }
+    view->setPicture(trainsim::studio::ScanView::Picture::kSemantic);
+    const QImage ids(seq + "/semantic_2/000042.png");
+    QCOMPARE(view->picture().size(), ids.size());
+    for (int k = 0; k < 50; ++k) {
+      const QPoint p((k * 131) % ids.width(), (k * 71) % ids.height());
+      const auto c =
+          trainsim::scene::classes()[static_cast<std::size_t>(qGray(ids.pixel(p)))].colour;
+      QCOMPARE(view->picture().pixel(p), qRgb(c[0], c[1], c[2]));
+    }
+    QVERIFY(view->status().contains("frame 42"));
+
+    // A .label cut short: the scan is not drawn, and the status line names the file.
+    QFile cut(seq + "/labels/000001.label");
+    QVERIFY(cut.resize(cut.size() - 4));
+    view->setFrame(1);
+    QCOMPARE(view->pointCount(), 0);
+    QVERIFY2(view->status().contains("000001.label"), qPrintable(view->status()));
+    view->setPicture(trainsim::studio::ScanView::Picture::kRgb);
+    view->setColour(trainsim::studio::ScanView::Colour::kClass);
+  }
+
   void selectingATimeMarksTheTrain() {
     MainWindow& w = *window_;
     trainsim::studio::InertialPanel* panel = w.inertial();
@@ -404,6 +472,10 @@ class StudioGuiTest : public QObject {
     w.form()->reveal("sensors.imus[0].preset");
     QTest::qWait(500);
     QVERIFY(w.grab().save(dir + "/studio-plan-trajectory.png"));
+    w.viewTabs()->setCurrentIndex(2);
+    w.scans()->setFrame(120);
+    QTest::qWait(500);
+    QVERIFY(w.grab().save(dir + "/studio-scans.png"));
   }
 
   void cleanupTestCase() {

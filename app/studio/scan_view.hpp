@@ -1,0 +1,66 @@
+#pragma once
+
+#include <QImage>
+#include <QString>
+#include <QStringList>
+#include <QWidget>
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+
+namespace trainsim::studio {
+
+/// A generated dataset's perception output, frame by frame: a LiDAR's scan
+/// (velodyne/NNNNNN.bin and labels/NNNNNN.label, read as KITTI and SemanticKITTI define them)
+/// as a point cloud coloured by class, instance, intensity or height, the frame's points per
+/// class, and a camera's picture beside it (RGB, semantic in the classes' colours, depth, or
+/// instances). Files that disagree (a .label whose length is not the .bin's) are reported in the
+/// view's status line, not drawn.
+class ScanView : public QWidget {
+  Q_OBJECT
+
+ public:
+  enum class Colour { kClass, kInstance, kIntensity, kHeight };
+  enum class Picture { kRgb, kSemantic, kDepth, kInstance };
+
+  explicit ScanView(QWidget* parent = nullptr);
+  ~ScanView() override;
+
+  /// Shows the dataset in `root` (its manifest's sequence folder): every velodyne[_N]/ and
+  /// image_N/ folder found, from frame 0. Returns false (and says why in the status line) when
+  /// it has neither.
+  bool setDataset(const QString& root);
+  void setFrame(int frame);
+  void setLidar(int index);
+  void setCamera(int index);
+  void setColour(Colour colour);
+  void setPicture(Picture picture);
+
+  int frameCount() const;
+  int frame() const;
+  QStringList lidars() const;   ///< the LiDAR folders found: velodyne, velodyne_1, …
+  QStringList cameras() const;  ///< the camera folders found: image_2, image_3, …
+  /// The scan shown: its points, the colour each is drawn in, and its points per class id.
+  int pointCount() const;
+  std::array<std::uint8_t, 3> pointColour(int i) const;
+  std::map<int, int> classCounts() const;
+  /// The camera picture shown (null when the frame has none), and the status line.
+  QImage picture() const;
+  QString status() const;
+  /// The rendered point cloud (for screenshots).
+  QImage grabImage();
+
+ protected:
+  void resizeEvent(QResizeEvent* event) override;
+
+ private:
+  void load();
+  void recolour();
+  void showPicture();
+
+  struct Impl;
+  std::unique_ptr<Impl> d_;
+};
+
+}  // namespace trainsim::studio
