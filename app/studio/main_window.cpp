@@ -24,6 +24,7 @@
 #include "inertial_panel.hpp"
 #include "plan_view_2d.hpp"
 #include "scan_view.hpp"
+#include "scene_view.hpp"
 #include "schema_form.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/io/dataset_layout.hpp"
@@ -59,6 +60,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   view2d_ = new PlanView2D;
   views_->addTab(view3d_, "3D design");
   views_->addTab(view2d_, "Plan");
+  scene_ = new SceneView;
+  scene_->setObjectName("sceneView");
+  views_->addTab(scene_, "Scene");
   scans_ = new ScanView;
   scans_->setObjectName("scanView");
   views_->addTab(scans_, "Scans and pictures");
@@ -268,6 +272,7 @@ void MainWindow::onPlanned(std::shared_ptr<const PlanSnapshot> plan) {
   view3d_->setPlan(plan_);
   view2d_->setPlan(plan_);
   inertial_->setPlan(plan_);
+  scene_->setPlan(plan_);
   showReport();
   const auto& main = plan_->plan->route().route;
   status_->setText(QString("plan: %1 km, %2 blocks, %3 tracks, %4 violation(s), run %5 s")

@@ -20,11 +20,13 @@ class DesignView3D;
 class InertialPanel;
 class PlanView2D;
 class ScanView;
+class SceneView;
 class SchemaForm;
 
 /// The studio's main window: the generated parameter panels on the left, the design views
-/// (3D and plan) and a dataset's scans and pictures with their labels top right, the inertial
-/// plots and the design report below them, run controls in the tool bar and status bar.
+/// (3D, plan and the planned scene) and a dataset's scans and pictures with their labels top right,
+/// the inertial plots and the design report below them, run controls in the tool bar and status
+/// bar.
 class MainWindow : public QMainWindow {
   Q_OBJECT
 
@@ -49,6 +51,7 @@ class MainWindow : public QMainWindow {
   PlanView2D* view2d() const { return view2d_; }
   InertialPanel* inertial() const { return inertial_; }
   ScanView* scans() const { return scans_; }
+  SceneView* scene() const { return scene_; }
   QTabWidget* viewTabs() const { return views_; }
   QTableWidget* report() const { return report_; }
   QProgressBar* progressBar() const { return progress_; }
@@ -88,6 +91,7 @@ class MainWindow : public QMainWindow {
   PlanView2D* view2d_ = nullptr;
   InertialPanel* inertial_ = nullptr;
   ScanView* scans_ = nullptr;
+  SceneView* scene_ = nullptr;
   QTableWidget* report_ = nullptr;
   QLineEdit* out_dir_ = nullptr;
   QProgressBar* progress_ = nullptr;

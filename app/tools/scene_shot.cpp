@@ -7,20 +7,17 @@
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
-#include <vtkCellArray.h>
-#include <vtkCellData.h>
 #include <vtkImageData.h>
 #include <vtkLight.h>
 #include <vtkNew.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "scene_polydata.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/io/file_io.hpp"
@@ -32,43 +29,6 @@
 namespace {
 
 using namespace trainsim;
-
-// Triangles coloured by material, wires as lines coloured by class, relative to `origin`.
-void addTile(const scene::Tile& tile, const Eigen::Vector3d& origin, vtkPoints* points,
-             vtkCellArray* polys, vtkUnsignedCharArray* poly_colours, vtkCellArray* lines,
-             vtkUnsignedCharArray* line_colours) {
-  for (const scene::Wire& wire : tile.wires) {
-    const vtkIdType base = points->GetNumberOfPoints();
-    for (const auto& p : wire.points) {
-      const Eigen::Vector3d w = tile.origin + p.cast<double>() - origin;
-      points->InsertNextPoint(w.data());
-    }
-    lines->InsertNextCell(static_cast<vtkIdType>(wire.points.size()));
-    for (std::size_t k = 0; k < wire.points.size(); ++k)
-      lines->InsertCellPoint(base + static_cast<vtkIdType>(k));
-    const auto& c = wire.cls == scene::cls::kWire ? scene::Rgb{40, 40, 40}
-                                                  : scene::material(wire.material).colour;
-    line_colours->InsertNextTypedTuple(c.data());
-  }
-  for (const scene::Object& object : tile.objects) {
-    const vtkIdType base = points->GetNumberOfPoints();
-    const Eigen::Matrix3d linear = object.linear.cast<double>();
-    for (const auto& v : object.mesh->vertices) {
-      const Eigen::Vector3d w = object.position - origin + linear * v.cast<double>();
-      points->InsertNextPoint(w.data());
-    }
-    for (const auto& part : object.mesh->parts) {
-      const auto colour = scene::material(part.material).colour;
-      for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
-           ++t) {
-        const auto& tri = object.mesh->triangles[t];
-        const vtkIdType ids[3] = {base + tri[0], base + tri[1], base + tri[2]};
-        polys->InsertNextCell(3, ids);
-        poly_colours->InsertNextTypedTuple(colour.data());
-      }
-    }
-  }
-}
 
 int run(int argc, char** argv) {
   CLI::App app{
@@ -99,23 +59,10 @@ int run(int argc, char** argv) {
   auto stream = stage->environment->stream(16);
   const scene::SceneWindow window = stream->window(origin, radius);
 
-  vtkNew<vtkPoints> points;
-  vtkNew<vtkCellArray> polys, lines;
-  vtkNew<vtkUnsignedCharArray> poly_colours, line_colours;
-  poly_colours->SetNumberOfComponents(3);
-  line_colours->SetNumberOfComponents(3);
-  for (const auto& tile : window.tiles)
-    addTile(*tile, origin, points, polys, poly_colours, lines, line_colours);
-  vtkNew<vtkPolyData> surfaces, wires;
-  surfaces->SetPoints(points);
-  surfaces->SetPolys(polys);
-  surfaces->GetCellData()->SetScalars(poly_colours);
-  wires->SetPoints(points);
-  wires->SetLines(lines);
-  wires->GetCellData()->SetScalars(line_colours);
+  const app::ScenePolyData scene = app::scenePolyData(window.tiles, origin);
 
   vtkNew<vtkRenderer> renderer;
-  for (vtkPolyData* data : {surfaces.GetPointer(), wires.GetPointer()}) {
+  for (vtkPolyData* data : {scene.surfaces.GetPointer(), scene.wires.GetPointer()}) {
     vtkNew<vtkPolyDataMapper> mapper;
     mapper->SetInputData(data);
     mapper->SetScalarModeToUseCellData();
@@ -166,7 +113,7 @@ int run(int argc, char** argv) {
                 flipped.data() + static_cast<std::size_t>(pixels_high - 1 - r) * width * 3);
   io::writeFileAtomic(out, io::encodePngRgb8(width, pixels_high, flipped));
   std::cout << fmt::format("wrote {} ({} tiles, {} triangles)\n", out, window.tiles.size(),
-                           polys->GetNumberOfCells());
+                           scene.triangles);
   return 0;
 }
 

@@ -33,9 +33,13 @@
 #include "main_window.hpp"
 #include "plan_view_2d.hpp"
 #include "scan_view.hpp"
+#include "scene_view.hpp"
 #include "schema_form.hpp"
+#include "trainsim/environment/environment.hpp"
 #include "trainsim/scene/semantics.hpp"
+#include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
+#include "trainsim/terrain/railway.hpp"
 
 using trainsim::studio::MainWindow;
 
@@ -366,6 +370,38 @@ class StudioGuiTest : public QObject {
     view->setColour(trainsim::studio::ScanView::Colour::kClass);
   }
 
+  // The Scene tab builds what a run streams around a chainage: the same tiles and triangles as
+  // the environment gives the test directly, drawn (the picture is not sky alone).
+  void theSceneAroundAChainageIsWhatARunStreams() {
+    MainWindow& w = *window_;
+    trainsim::studio::SceneView* view = w.scene();
+    w.viewTabs()->setCurrentWidget(view);
+    QSignalSpy shown(view, &trainsim::studio::SceneView::sceneShown);
+    view->showScene(300.0, 150.0);
+    QVERIFY(shown.wait(120000));
+    const auto plan = w.plan();
+    const auto stage = trainsim::sim::makeEnvironment(*plan->plan, *plan->scenario);
+    const auto at = stage->railway->frame(0, 300.0).position;
+    const auto tiles = stage->environment->stream(16)->window(at, 150.0).tiles;
+    QCOMPARE(view->tileCount(), static_cast<int>(tiles.size()));
+    long long triangles = 0;
+    for (const auto& tile : tiles)
+      triangles += static_cast<long long>(tile->triangleCount());
+    QVERIFY(triangles > 10000);
+    QCOMPARE(view->triangleCount(), triangles);
+    view->setColour(trainsim::app::SceneColour::kClass);
+    QCOMPARE(view->triangleCount(), triangles);
+    const QImage picture = view->grabImage();
+    const QRgb sky = picture.pixel(picture.width() / 2, 2);
+    int drawn = 0;
+    for (int y = 0; y < picture.height(); y += 8)
+      for (int x = 0; x < picture.width(); x += 8)
+        drawn += picture.pixel(x, y) != sky;
+    QVERIFY2(drawn > (picture.width() / 8) * (picture.height() / 8) / 3,
+             qPrintable(QString("%1 of the sampled pixels drawn").arg(drawn)));
+    view->setColour(trainsim::app::SceneColour::kMaterial);
+  }
+
   void selectingATimeMarksTheTrain() {
     MainWindow& w = *window_;
     trainsim::studio::InertialPanel* panel = w.inertial();
@@ -472,7 +508,13 @@ class StudioGuiTest : public QObject {
     w.form()->reveal("sensors.imus[0].preset");
     QTest::qWait(500);
     QVERIFY(w.grab().save(dir + "/studio-plan-trajectory.png"));
-    w.viewTabs()->setCurrentIndex(2);
+    w.viewTabs()->setCurrentWidget(w.scene());
+    QSignalSpy scene_shown(w.scene(), &trainsim::studio::SceneView::sceneShown);
+    w.scene()->showScene(1760.0, 250.0);
+    QVERIFY(scene_shown.wait(120000));
+    QTest::qWait(500);
+    QVERIFY(w.grab().save(dir + "/studio-scene.png"));
+    w.viewTabs()->setCurrentWidget(w.scans());
     w.scans()->setFrame(120);
     QTest::qWait(500);
     QVERIFY(w.grab().save(dir + "/studio-scans.png"));
