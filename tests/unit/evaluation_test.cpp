@@ -270,6 +270,9 @@ TEST(Odometry, RejectsSequencesThatDoNotPair) {
   bad = {};
   bad.step = 0;
   EXPECT_THROW(evaluate(gt, gt, bad), ConfigError);
+  bad = {};
+  bad.lengths_m = {100.0, 200.0, 100.0};  // 100 m counted twice in 'all'
+  EXPECT_THROW(evaluate(gt, gt, bad), ConfigError);
 }
 
 TEST(Odometry, JsonCarriesTheReport) {

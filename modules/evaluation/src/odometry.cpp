@@ -24,15 +24,46 @@ namespace {
 // (KITTI's ground truth) is off by about 1e-6.
 constexpr double kOrthonormalTolerance = 1e-3;
 
+// Larger inputs are refused rather than read: a poses file of a 1000 km run at 10 Hz is about
+// 50 MB, and a device or a wrong path (/dev/zero) would otherwise fill the memory.
+constexpr std::size_t kMaxInputBytes = std::size_t{1} << 30;
+
+// The whole file, read in blocks up to kMaxInputBytes; a leading UTF-8 byte order mark dropped.
 std::string readInput(const std::filesystem::path& path) {
+  if (std::filesystem::is_directory(path))
+    throw ConfigError(fmt::format("{}: is a folder, not a file", path.string()));
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ConfigError(fmt::format("{}: {}", path.string(), std::strerror(errno)));
-  if (std::filesystem::is_directory(path))
-    throw ConfigError(fmt::format("{}: is a folder, not a poses file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text;
+  std::array<char, 1 << 16> block{};
+  while (in.read(block.data(), block.size()) || in.gcount() > 0) {
+    text.append(block.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxInputBytes)
+      throw ConfigError(fmt::format("{}: larger than {} MiB, not a poses or calib file",
+                                    path.string(), kMaxInputBytes >> 20));
+  }
+  if (text.starts_with("\xEF\xBB\xBF"))
+    text.erase(0, 3);
+  return text;
+}
+
+// The lines of `text` as views (without their line ends), numbered from 1.
+template <typename Visit>
+void forEachLine(std::string_view text, const Visit& visit) {
+  std::size_t number = 0;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    visit(++number, text.substr(0, end));
+    if (end == std::string_view::npos)
+      break;
+    text.remove_prefix(end + 1);
+  }
+}
+
+bool isBlank(std::string_view line) {
+  return std::all_of(line.begin(), line.end(),
+                     [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; });
 }
 
 // The whitespace-separated numbers of `line`; nullopt at the first token that is not a finite
@@ -51,7 +82,7 @@ std::optional<std::vector<double>> numbersOf(std::string_view line, std::string&
     const std::string_view token = line.substr(i, j - i);
     double value = 0.0;
     const char* begin = token.data();
-    if (token.starts_with('+'))
+    if (token.starts_with('+') && token.size() > 1 && token[1] != '-' && token[1] != '+')
       ++begin;
     const auto [end, ec] = std::from_chars(begin, token.data() + token.size(), value);
     if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(value)) {
@@ -106,14 +137,11 @@ std::vector<double> pathLengths(const Poses& poses) {
 Poses readKittiPoses(const std::filesystem::path& path) {
   const std::string text = readInput(path);
   Poses poses;
-  std::size_t line_number = 0, blank = 0;
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) {
-    ++line_number;
-    const bool empty = line.find_first_not_of(" \t\r") == std::string::npos;
-    if (empty) {
+  std::size_t blank = 0;
+  forEachLine(text, [&](std::size_t line_number, std::string_view line) {
+    if (isBlank(line)) {
       blank = blank == 0 ? line_number : blank;
-      continue;
+      return;
     }
     if (blank != 0)
       throw ConfigError(
@@ -122,13 +150,13 @@ Poses readKittiPoses(const std::filesystem::path& path) {
     std::string bad, why;
     const auto numbers = numbersOf(line, bad);
     if (!numbers)
-      throw ConfigError(fmt::format("{}:{}: '{}' is not a finite number", path.string(),
-                                    line_number, messageValue(bad)));
+      throw ConfigError(fmt::format("{}:{}: '{}' is not a finite number a double holds",
+                                    path.string(), line_number, messageValue(bad)));
     const auto pose = poseOf(*numbers, why);
     if (!pose)
       throw ConfigError(fmt::format("{}:{}: {}", path.string(), line_number, why));
     poses.push_back(*pose);
-  }
+  });
   if (poses.empty())
     throw ConfigError(fmt::format("{}: no pose in the file", path.string()));
   return poses;
@@ -136,25 +164,25 @@ Poses readKittiPoses(const std::filesystem::path& path) {
 
 Pose readKittiTr(const std::filesystem::path& calib) {
   const std::string text = readInput(calib);
-  std::istringstream lines(text);
-  std::size_t line_number = 0;
-  for (std::string line; std::getline(lines, line);) {
-    ++line_number;
-    if (!line.starts_with("Tr:"))
-      continue;
+  std::optional<Pose> tr;
+  forEachLine(text, [&](std::size_t line_number, std::string_view line) {
+    const std::size_t start = line.find_first_not_of(" \t");
+    if (tr || start == std::string_view::npos || !line.substr(start).starts_with("Tr:"))
+      return;
     std::string bad, why;
-    const auto numbers = numbersOf(std::string_view(line).substr(3), bad);
+    const auto numbers = numbersOf(line.substr(start + 3), bad);
     if (!numbers)
-      throw ConfigError(fmt::format("{}:{}: Tr: '{}' is not a finite number", calib.string(),
-                                    line_number, messageValue(bad)));
-    const auto pose = poseOf(*numbers, why);
-    if (!pose)
+      throw ConfigError(fmt::format("{}:{}: Tr: '{}' is not a finite number a double holds",
+                                    calib.string(), line_number, messageValue(bad)));
+    tr = poseOf(*numbers, why);
+    if (!tr)
       throw ConfigError(fmt::format("{}:{}: Tr: {}", calib.string(), line_number, why));
-    return *pose;
-  }
-  throw ConfigError(
-      fmt::format("{}: no 'Tr:' line (velodyne → camera 0); a dataset with a LiDAR writes one",
-                  calib.string()));
+  });
+  if (!tr)
+    throw ConfigError(
+        fmt::format("{}: no 'Tr:' line (velodyne → camera 0); a dataset with a LiDAR writes one",
+                    calib.string()));
+  return *tr;
 }
 
 Poses vehicleAxes(const Poses& camera_poses, const Pose* tr) {
@@ -249,9 +277,16 @@ Report evaluate(const Poses& gt, const Poses& est, const EvaluateOptions& option
     throw ConfigError("--eod-from: must be a distance of 0 m or more");
   if (options.lengths_m.empty())
     throw ConfigError("--lengths: at least one segment length");
-  for (const double length : options.lengths_m)
+  for (std::size_t i = 0; i < options.lengths_m.size(); ++i) {
+    const double length = options.lengths_m[i];
     if (!(length > 0.0) || !std::isfinite(length))
       throw ConfigError(fmt::format("--lengths: {} is not a positive length", length));
+    if (std::find(options.lengths_m.begin(),
+                  options.lengths_m.begin() + static_cast<std::ptrdiff_t>(i),
+                  length) != options.lengths_m.begin() + static_cast<std::ptrdiff_t>(i))
+      throw ConfigError(fmt::format(
+          "--lengths: {:g} m is given twice (its segments would count twice in 'all')", length));
+  }
 
   Report report;
   report.frames = gt.size();
@@ -302,16 +337,29 @@ std::string markdown(const Report& r) {
     return fmt::format("| {} | {} | {:.4f} | {:.4f} |\n", name, l.segments, l.translation_percent,
                        100.0 * l.rotation_deg_per_m);
   };
-  for (const Report::Length& l : r.lengths)
+  bool few = false;
+  for (const Report::Length& l : r.lengths) {
     out += row(fmt::format("{:g}", l.length_m), l);
+    few = few || (l.segments > 0 && l.segments < 3);
+  }
   out += row("all", r.all);
+  if (few)
+    out +=
+        "\nLengths with fewer than 3 segments are left out of the devkit's plots (not of its "
+        "summary, the row 'all').\n";
   out += fmt::format(
       "\nFrame-to-frame translation errors TEX and TEY and error over distance EOD (the TrainSim "
-      "paper's metrics, in the {} axes: x forward, y left; EOD from {:g} m of path)\n\n"
+      "paper's metrics, x forward and y left: {}; EOD from {:g} m of path)\n\n"
       "| metric | frames | mean | standard deviation | max |\n"
       "|---|---|---|---|---|\n",
-      r.velodyne_axes ? "velodyne's (calib.txt's Tr)" : "vehicle's", r.eod_from_m);
+      r.velodyne_axes
+          ? "the velodyne's axes (calib.txt's Tr)"
+          : "camera 0's axes renamed, its offset and tilt on the vehicle not taken out (--calib "
+            "gives the velodyne's)",
+      r.eod_from_m);
   const auto stats = [](const std::string& name, const Stats& s) {
+    if (s.count == 0)
+      return fmt::format("| {} | 0 | – | – | – |\n", name);
     return fmt::format("| {} | {} | {:.4f} | {:.4f} | {:.4f} |\n", name, s.count, s.mean, s.stddev,
                        s.max);
   };
@@ -322,19 +370,26 @@ std::string markdown(const Report& r) {
 }
 
 std::string json(const Report& r) {
-  const auto length = [](const Report::Length& l) {
+  // Figures over no segment or frame are null, not 0 (which would read as no error).
+  const auto value = [](std::size_t count, double v) {
+    return count == 0 ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v);
+  };
+  const auto length = [&](const Report::Length& l) {
     nlohmann::ordered_json j;
     if (l.length_m > 0.0)
       j["length_m"] = l.length_m;
     j["segments"] = l.segments;
-    j["translation_percent"] = l.translation_percent;
-    j["rotation_deg_per_m"] = l.rotation_deg_per_m;  // the devkit's unit
-    j["rotation_deg_per_100m"] = 100.0 * l.rotation_deg_per_m;
+    j["translation_percent"] = value(l.segments, l.translation_percent);
+    // The benchmark site's unit (the devkit's stats.txt has rad/m), and per 100 m.
+    j["rotation_deg_per_m"] = value(l.segments, l.rotation_deg_per_m);
+    j["rotation_deg_per_100m"] = value(l.segments, 100.0 * l.rotation_deg_per_m);
     return j;
   };
-  const auto stats = [](const Stats& s) {
-    return nlohmann::ordered_json{
-        {"frames", s.count}, {"mean", s.mean}, {"stddev", s.stddev}, {"max", s.max}};
+  const auto stats = [&](const Stats& s) {
+    return nlohmann::ordered_json{{"frames", s.count},
+                                  {"mean", value(s.count, s.mean)},
+                                  {"stddev", value(s.count, s.stddev)},
+                                  {"max", value(s.count, s.max)}};
   };
   nlohmann::ordered_json j;
   j["frames"] = r.frames;
@@ -344,7 +399,7 @@ std::string json(const Report& r) {
   for (const Report::Length& l : r.lengths)
     j["kitti"]["lengths"].push_back(length(l));
   j["kitti"]["all"] = length(r.all);
-  j["paper"]["axes"] = r.velodyne_axes ? "velodyne" : "vehicle";
+  j["paper"]["axes"] = r.velodyne_axes ? "velodyne" : "camera";
   j["paper"]["tex_m"] = stats(r.tex_m);
   j["paper"]["tey_m"] = stats(r.tey_m);
   j["paper"]["eod_from_m"] = r.eod_from_m;

@@ -22,7 +22,7 @@ using Poses = std::vector<Pose>;
 /// the top three rows of its 4 × 4 matrix row by row, 12 numbers. Throws ConfigError naming the
 /// file and line for anything else: a missing or unreadable file, a line without exactly 12
 /// finite numbers, a rotation that is not one (|RᵀR − I| > 1e-3 or a reflection), an empty
-/// line before the last, no pose at all.
+/// line before the last, no pose at all, a file over 1 GiB.
 Poses readKittiPoses(const std::filesystem::path& path);
 
 /// KITTI's `Tr` (velodyne → camera 0: p_cam = Tr · p_velo) from a calib.txt. ConfigError naming
@@ -30,10 +30,10 @@ Poses readKittiPoses(const std::filesystem::path& path);
 Pose readKittiTr(const std::filesystem::path& calib);
 
 /// Camera-0 poses as poses.txt holds them (KITTI camera axes: x right, y down, z forward) as
-/// poses of the vehicle's axes (x forward, y left, z up) relative to the first pose. With a
-/// calib.txt's Tr they are the velodyne's poses, Tr⁻¹ · C_k · Tr, exactly as KITTI's LiDAR
-/// odometry pipelines turn them; without one the camera's own motion with its axes renamed
-/// (the camera's offset on the vehicle is then not taken out).
+/// poses in axes x forward, y left, z up relative to the first pose. With a calib.txt's Tr they
+/// are the velodyne's poses, Tr⁻¹ · C_k · Tr, exactly as KITTI's LiDAR odometry pipelines turn
+/// them; without one the camera's own motion with its axes renamed (the camera's offset and
+/// tilt on the vehicle are then not taken out).
 Poses vehicleAxes(const Poses& camera_poses, const Pose* tr = nullptr);
 
 /// One segment of the devkit: from `first` to the first frame whose ground-truth path length
@@ -86,6 +86,7 @@ struct Report {
   Stats tex_m, tey_m, eod_percent;
   double eod_from_m = 10.0;
   bool velodyne_axes = false;  ///< TEX/TEY/EOD in the velodyne's axes (a calib.txt was given)
+                               ///< or camera 0's renamed
 };
 
 struct EvaluateOptions {
