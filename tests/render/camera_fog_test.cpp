@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "trainsim/camera/exposure.hpp"
+#include "trainsim/core/frames.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/io/png.hpp"
 #include "trainsim/sim/generate.hpp"
@@ -114,6 +115,74 @@ TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
     }
   EXPECT_GT(ground, 1000);
   EXPECT_GT(sky, 1000);
+}
+
+// A camera 1 m above the middle of the roof looking back and 30° down sees the train's body
+// (train.body) where the roof is: unlabelled, no instance, at the depth the roof plane has,
+// H / (sin 30° + (v − cy) / fy · cos 30°) along the optical axis for a camera H above it. With
+// the body off, the same pixels see the track beyond.
+TEST(CameraBody, ACameraLookingBackAtTheRoofSeesTheTrainsBody) {
+  const auto run = [](bool body) {
+    const scenario::Json camera = {
+        {"width", 96},
+        {"height", 64},
+        {"period_ns", 1'000'000'000},
+        {"mount", {{"x_m", 0.0}, {"z_m", 4.8}, {"yaw_deg", 180.0}, {"pitch_deg", -30.0}}}};
+    const scenario::Json input = {
+        {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
+        {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
+        {"dataset", {{"frame_period_ns", 1'000'000'000}}},
+        {"train", {{"body", {{"enabled", body}, {"roof_m", 3.8}}}}},
+        {"sensors", {{"cameras", {camera}}}}};
+    const fs::path out =
+        fs::temp_directory_path() / fmt::format("trainsim_body_{}_{}", ::getpid(), body);
+    fs::remove_all(out);
+    GenerateOptions options;
+    options.out = out;
+    generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+    const fs::path seq = out / "sequences" / "00";
+    struct Images {
+      io::PngImage depth, semantic, instance;
+      std::string calib;
+    } images{io::decodePng(fileBytes(seq / "depth_2" / "000000.png")),
+             io::decodePng(fileBytes(seq / "semantic_2" / "000000.png")),
+             io::decodePng(fileBytes(seq / "instance_2" / "000000.png")),
+             fileBytes(seq / "calib.txt")};
+    fs::remove_all(out);
+    return images;
+  };
+  const auto with = run(true);
+  const auto without = run(false);
+  double fy = 0, cy = 0;  // the rows' focal length and centre, from P2
+  std::istringstream calib(with.calib);
+  for (std::string line; std::getline(calib, line);)
+    if (line.starts_with("P2:")) {
+      std::istringstream row(line.substr(3));
+      std::array<double, 12> p{};
+      for (double& v : p)
+        row >> v;
+      fy = p[5], cy = p[6];
+    }
+  ASSERT_GT(fy, 0.0);
+  const int w = with.depth.width, h = with.depth.height;
+  int roof = 0;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      if (static_cast<std::uint8_t>(with.semantic.samples8[i]) != 0)
+        continue;
+      ++roof;
+      const double s = std::sin(30.0 * kRadPerDeg), c = std::cos(30.0 * kRadPerDeg);
+      const double expected = 1.0 / (s + (v - cy) / fy * c);
+      EXPECT_NEAR(with.depth.samples16[i] / 256.0, expected, 0.01) << u << ", " << v;
+      EXPECT_EQ(with.instance.samples16[i], 0) << u << ", " << v;
+      EXPECT_NE(static_cast<std::uint8_t>(without.semantic.samples8[i]), 0) << u << ", " << v;
+      EXPECT_GT(without.depth.samples16[i] / 256.0, expected + 1.0) << u << ", " << v;
+    }
+  // The roof fills the middle of the picture (2.9 m wide, seen from 1 m above).
+  EXPECT_GT(roof, w * h / 4);
+  const std::size_t centre = static_cast<std::size_t>(h / 2) * w + static_cast<std::size_t>(w / 2);
+  EXPECT_EQ(static_cast<std::uint8_t>(with.semantic.samples8[centre]), 0);
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <memory>
 
 #include "trainsim/camera/exposure.hpp"
 #include "trainsim/camera/lens.hpp"
@@ -15,6 +17,9 @@
 #include "trainsim/core/frames.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/io/png.hpp"
+#include "trainsim/scene/mesh.hpp"
+#include "trainsim/scene/semantics.hpp"
+#include "trainsim/sim/config.hpp"
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 #include "trainsim/sim/sensor_registry.hpp"
@@ -289,6 +294,20 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
     T_body_cam_ = bodyFromCamera(c.basics.mount.mount());
+    // The train's own body (train.body) is in the picture of a camera outside it (one looking
+    // back along the roof, or down at it), as the box that stops the LiDARs' rays: unlabelled,
+    // no instance. A camera inside the box is behind the windscreen and sees out.
+    const TrainConfig train = trainSection().read(setup.context.scenario.json());
+    if (train.body.enabled) {
+      // The box is in the pivots' midpoint's axes, the trajectory's pose the reported point's.
+      const Eigen::AlignedBox3d box = train.body.box().translate(-train.reference_point);
+      if (!box.contains(T_body_cam_.translation())) {
+        auto mesh = std::make_shared<scene::Mesh>();
+        mesh->beginPart(scene::cls::kUnlabelled, scene::mat::kPaintedMetal);
+        scene::addBox(*mesh, box.min().cast<float>(), box.max().cast<float>());
+        body_ = std::move(mesh);
+      }
+    }
   }
 
   std::string name() const override { return name_; }
@@ -394,8 +413,20 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   }
 
   CameraFrame read(std::int64_t k) const override {
-    const Eigen::Isometry3d T = trajectory_.sample(k).pose() * T_body_cam_;
-    const scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
+    const Eigen::Isometry3d pose = trajectory_.sample(k).pose();
+    const Eigen::Isometry3d T = pose * T_body_cam_;
+    scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
+    if (body_) {
+      // One tile of its own, under an index no scene tile has.
+      auto tile = std::make_shared<scene::Tile>();
+      tile->index = {std::numeric_limits<std::int32_t>::min(),
+                     std::numeric_limits<std::int32_t>::min()};
+      tile->origin = pose.translation();
+      tile->objects.push_back(
+          scene::Object::place(body_, pose.translation(), pose.linear().cast<float>(), 0));
+      tile->updateBounds();
+      window.tiles.push_back(std::move(tile));
+    }
     CameraFrame out;
     out.images = renderer_.render(window, T, lighting_);
     if (config_.rgb && config_.fog_visibility_m > 0.0)
@@ -486,6 +517,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   int index_;
   int cameras_;
   Eigen::Isometry3d T_body_cam0_, T_body_cam_;
+  std::shared_ptr<const scene::Mesh> body_;  // the train's body in the reported point's axes
   CameraConfig config_;
   RandomStream noise_;
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)

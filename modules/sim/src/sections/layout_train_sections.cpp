@@ -59,8 +59,9 @@ const Binding<BodyConfig>& bodyBinding() {
   static const Binding<BodyConfig> binding = [] {
     Binding<BodyConfig> b;
     b.boolean("enabled", &BodyConfig::enabled,
-              "Rays that meet the body end there without a return (a LiDAR on the roof does not "
-              "see the track through the train)");
+              "LiDAR rays that meet the body end there without a return (a LiDAR on the roof "
+              "does not see the track through the train); cameras outside it see it as an "
+              "unlabelled box (a camera inside it is behind the windscreen)");
     b.number("front_x_m", &BodyConfig::front_x_m, kM,
              "Front edge of the roof, forward of the origin midway between the bogie pivots "
              "(the nose below it is not modelled)")
@@ -145,7 +146,7 @@ const scenario::Section<TrainConfig>& trainSection() {
              "Optional traction and running resistance limiting acceleration.");
     b.object("body", &TrainConfig::body, bodyBinding(),
              "The lead vehicle's body as a box in body axes (origin midway between the bogie "
-             "pivots at top of rail): what it hides from the LiDARs on it.");
+             "pivots at top of rail): what it hides from the LiDARs and cameras on it.");
     b.check([](const TrainConfig& c, const scenario::FieldPaths<TrainConfig>& at,
                std::vector<Problem>& out) {
       if (c.vehicle.bogie_spacing_m > c.limits.train_length_m)
