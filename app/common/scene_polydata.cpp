@@ -13,7 +13,7 @@ namespace trainsim::app {
 
 ScenePolyData scenePolyData(const std::vector<std::shared_ptr<const scene::Tile>>& tiles,
                             const Eigen::Vector3d& origin, SceneColour colour) {
-  vtkNew<vtkPoints> points;
+  vtkNew<vtkPoints> points, wire_points;  // apart, so that the wires' mapper uploads only theirs
   vtkNew<vtkCellArray> polys, lines;
   vtkNew<vtkUnsignedCharArray> poly_colours, line_colours;
   poly_colours->SetNumberOfComponents(3);
@@ -25,10 +25,10 @@ ScenePolyData scenePolyData(const std::vector<std::shared_ptr<const scene::Tile>
   ScenePolyData out;
   for (const auto& tile : tiles) {
     for (const scene::Wire& wire : tile->wires) {
-      const vtkIdType base = points->GetNumberOfPoints();
+      const vtkIdType base = wire_points->GetNumberOfPoints();
       for (const auto& p : wire.points) {
         const Eigen::Vector3d w = tile->origin + p.cast<double>() - origin;
-        points->InsertNextPoint(w.data());
+        wire_points->InsertNextPoint(w.data());
       }
       lines->InsertNextCell(static_cast<vtkIdType>(wire.points.size()));
       for (std::size_t k = 0; k < wire.points.size(); ++k)
@@ -65,7 +65,7 @@ ScenePolyData scenePolyData(const std::vector<std::shared_ptr<const scene::Tile>
   out.surfaces->SetPolys(polys);
   out.surfaces->GetCellData()->SetScalars(poly_colours);
   out.wires = vtkSmartPointer<vtkPolyData>::New();
-  out.wires->SetPoints(points);
+  out.wires->SetPoints(wire_points);
   out.wires->SetLines(lines);
   out.wires->GetCellData()->SetScalars(line_colours);
   return out;

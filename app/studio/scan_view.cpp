@@ -16,6 +16,7 @@
 #include <vtkUnsignedCharArray.h>
 #include <QComboBox>
 #include <QDir>
+#include <QEvent>
 #include <QFileInfo>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -42,11 +43,18 @@ namespace {
 
 using Rgb = std::array<std::uint8_t, 3>;
 
-// A class id's colour from the class table; ids it does not have in magenta.
-Rgb classColour(std::uint32_t id) {
+}  // namespace
+
+// The class table's colours, but unlabelled (black in the table, as SemanticKITTI has it) in
+// mid grey, which shows on the view's dark background; ids the table does not have in white.
+std::array<std::uint8_t, 3> ScanView::classColour(std::uint32_t id) {
   const auto table = scene::classes();
-  return id < table.size() ? table[id].colour : Rgb{255, 0, 255};
+  if (id == 0)
+    return {128, 128, 128};
+  return id < table.size() ? table[id].colour : Rgb{255, 255, 255};
 }
+
+namespace {
 
 // An instance id's colour: hues a golden angle apart, so neighbouring ids differ; 0 (no
 // instance: stuff) in grey.
@@ -72,8 +80,10 @@ Rgb instanceColour(std::uint64_t id) {
   }
 }
 
+}  // namespace
+
 // A value in [0, 1] on a dark-blue → teal → yellow ramp (perceptually ordered, as viridis).
-Rgb ramp(double t) {
+std::array<std::uint8_t, 3> ScanView::ramp(double t) {
   t = std::clamp(t, 0.0, 1.0);
   static constexpr double kStops[3][3] = {{68, 1, 84}, {33, 145, 140}, {253, 231, 37}};
   const int i = t < 0.5 ? 0 : 1;
@@ -85,12 +95,21 @@ Rgb ramp(double t) {
   return out;
 }
 
+namespace {
+
 // The folders of a sequence named `prefix` and `prefix_N`, or `prefix` followed by a number
 // (image_2, image_3, …), in their sensors' order.
 QStringList folders(const QDir& sequence, const QString& prefix, bool numbered) {
   QStringList out;
   if (numbered) {
-    for (int n = 2; sequence.exists(QString("%1%2").arg(prefix).arg(n)); ++n)
+    // A camera writes image_N, depth_N, semantic_N or instance_N, whichever it was asked for.
+    const auto has = [&](int n) {
+      for (const char* p : {"image_", "depth_", "semantic_", "instance_"})
+        if (sequence.exists(QString("%1%2").arg(p).arg(n)))
+          return true;
+      return false;
+    };
+    for (int n = 2; has(n); ++n)
       out << QString("%1%2").arg(prefix).arg(n);
     return out;
   }
@@ -112,6 +131,8 @@ struct ScanView::Impl {
   std::vector<float> xyzi;            // the scan: x y z intensity per point
   std::vector<std::uint32_t> labels;  // class | instance << 16 per point
   QImage picture;
+  QString scan_problem, picture_problem;  // shown in the status line
+  bool unit_intensity = true;             // intensities in 0..1 (else the VLP-16's 0..255)
   bool camera_placed = false;
 
   QVTKOpenGLNativeWidget* widget = nullptr;
@@ -148,7 +169,9 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
   d_->picture_box->addItems({"RGB", "semantic", "depth", "instances"});
   d_->frame_spin = new QSpinBox;
   d_->frame_spin->setObjectName("scanFrame");
+  d_->frame_spin->setKeyboardTracking(false);  // a typed number loads once, when it is whole
   d_->frame_slider = new QSlider(Qt::Horizontal);
+  d_->frame_slider->setTracking(false);  // a drag loads the frame it ends on
   bar->addWidget(new QLabel("LiDAR"));
   bar->addWidget(d_->lidar_box);
   bar->addWidget(new QLabel("colour by"));
@@ -173,6 +196,7 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
   d_->image->setObjectName("scanImage");
   d_->image->setAlignment(Qt::AlignCenter);
   d_->image->setMinimumSize(320, 100);
+  d_->image->installEventFilter(this);
   d_->image->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
   right->addWidget(d_->image);
   d_->counts = new QTableWidget(0, 2);
@@ -183,8 +207,10 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
   d_->counts->setEditTriggers(QAbstractItemView::NoEditTriggers);
   right->addWidget(d_->counts);
   split->addWidget(right);
-  split->setStretchFactor(0, 3);
-  split->setStretchFactor(1, 2);
+  right->setStretchFactor(0, 2);
+  right->setStretchFactor(1, 1);
+  split->setStretchFactor(0, 1);
+  split->setStretchFactor(1, 1);
   layout->addWidget(split, 1);
   d_->status = new QLabel("Open a dataset (File ▸ Open dataset) or run one to see its scans.");
   d_->status->setObjectName("scanStatus");
@@ -233,55 +259,49 @@ bool ScanView::setDataset(const QString& root) {
   d_->camera_box->addItems(d_->cameras);
   for (QComboBox* box : {d_->lidar_box, d_->camera_box})
     box->blockSignals(false);
+  showFrameControls();
+  loadScan();
+  loadPicture();
+  if (d_->lidars.isEmpty() && d_->cameras.isEmpty()) {
+    d_->status->setText(root + " has no LiDAR scans or camera images.");
+    return false;
+  }
+  return true;
+}
+
+void ScanView::showFrameControls() {
   const int last = std::max(0, d_->frames - 1);
   for (QWidget* w :
        {static_cast<QWidget*>(d_->frame_spin), static_cast<QWidget*>(d_->frame_slider)})
     w->blockSignals(true);
   d_->frame_spin->setRange(0, last);
   d_->frame_slider->setRange(0, last);
-  d_->frame_spin->setValue(0);
-  d_->frame_slider->setValue(0);
+  d_->frame_spin->setValue(d_->frame);
+  d_->frame_slider->setValue(d_->frame);
   for (QWidget* w :
        {static_cast<QWidget*>(d_->frame_spin), static_cast<QWidget*>(d_->frame_slider)})
     w->blockSignals(false);
-  if (d_->lidars.isEmpty() && d_->cameras.isEmpty()) {
-    d_->xyzi.clear();
-    d_->labels.clear();
-    d_->picture = QImage();
-    recolour();
-    showPicture();
-    d_->status->setText(root + " has no LiDAR scans or camera images.");
-    return false;
-  }
-  load();
-  return true;
 }
 
 void ScanView::setFrame(int frame) {
-  frame = std::clamp(frame, 0, std::max(0, d_->frames - 1));
-  d_->frame = frame;
-  for (QWidget* w :
-       {static_cast<QWidget*>(d_->frame_spin), static_cast<QWidget*>(d_->frame_slider)})
-    w->blockSignals(true);
-  d_->frame_spin->setValue(frame);
-  d_->frame_slider->setValue(frame);
-  for (QWidget* w :
-       {static_cast<QWidget*>(d_->frame_spin), static_cast<QWidget*>(d_->frame_slider)})
-    w->blockSignals(false);
-  if (!d_->sequence.isEmpty())
-    load();
+  d_->frame = std::clamp(frame, 0, std::max(0, d_->frames - 1));
+  showFrameControls();
+  if (d_->sequence.isEmpty())
+    return;
+  loadScan();
+  loadPicture();
 }
 
 void ScanView::setLidar(int index) {
   d_->lidar = std::clamp(index, 0, std::max(0, static_cast<int>(d_->lidars.size()) - 1));
   if (!d_->sequence.isEmpty())
-    load();
+    loadScan();
 }
 
 void ScanView::setCamera(int index) {
   d_->camera = std::clamp(index, 0, std::max(0, static_cast<int>(d_->cameras.size()) - 1));
   if (!d_->sequence.isEmpty())
-    load();
+    loadPicture();
 }
 
 void ScanView::setColour(Colour colour) {
@@ -298,23 +318,25 @@ void ScanView::setPicture(Picture picture) {
   d_->picture_box->setCurrentIndex(static_cast<int>(picture));
   d_->picture_box->blockSignals(false);
   if (!d_->sequence.isEmpty())
-    load();
+    loadPicture();
 }
 
-// Reads the frame's scan and picture. A file that cannot be read, or a scan whose .label does
-// not hold one word per point of its .bin, leaves that part empty and says so.
-void ScanView::load() {
-  QStringList problems;
+QString ScanView::frameFile(const std::string& folder, const char* extension) const {
+  return QDir(d_->sequence)
+      .filePath(QString::fromStdString(io::DatasetLayout::frameFile(folder, d_->frame, extension)));
+}
+
+// Reads the frame's scan: its points, and the labels when the .label is there. A file that
+// cannot be read, or a .label without one word per point of the .bin, leaves the scan empty and
+// says so in the status line.
+void ScanView::loadScan() {
   d_->xyzi.clear();
   d_->labels.clear();
-  const QDir sequence(d_->sequence);
-  const auto file = [&](const std::string& folder, const char* extension) {
-    return sequence.filePath(
-        QString::fromStdString(io::DatasetLayout::frameFile(folder, d_->frame, extension)));
-  };
+  d_->scan_problem.clear();
+  d_->unit_intensity = true;
   if (!d_->lidars.isEmpty()) {
-    const QString bin = file(io::DatasetLayout::velodyneFolder(d_->lidar), "bin");
-    const QString label = file(io::DatasetLayout::labelsFolder(d_->lidar), "label");
+    const QString bin = frameFile(io::DatasetLayout::velodyneFolder(d_->lidar), "bin");
+    const QString label = frameFile(io::DatasetLayout::labelsFolder(d_->lidar), "label");
     try {
       const std::string points = io::readFile(bin.toStdString());
       if (points.size() % 16 != 0)
@@ -328,19 +350,67 @@ void ScanView::load() {
                         " labels for " + std::to_string(points.size() / 16) + " points");
         d_->labels.resize(words.size() / 4);
         std::memcpy(d_->labels.data(), words.data(), words.size());
+      } else {
+        d_->scan_problem = label + " is missing: every point shown as unlabelled";
       }
     } catch (const std::exception& e) {
       d_->xyzi.clear();
       d_->labels.clear();
-      problems << QString::fromUtf8(e.what());
+      d_->scan_problem = QString::fromUtf8(e.what());
     }
   }
+  // KITTI's 0..1 reflectance, or the VLP-16 scale's 0..255 (sensors.lidars[].scale).
+  for (std::size_t i = 3; i < d_->xyzi.size() && d_->unit_intensity; i += 4)
+    d_->unit_intensity = d_->xyzi[i] <= 1.0f;
+
+  // The geometry, once per scan (a colour change only recolours it).
+  const std::size_t n = d_->xyzi.size() / 4;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  vtkNew<vtkCellArray> verts;
+  verts->AllocateExact(static_cast<vtkIdType>(n), static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* p = &d_->xyzi[4 * i];
+    points->SetPoint(static_cast<vtkIdType>(i), p[0], p[1], p[2]);
+    const vtkIdType id = static_cast<vtkIdType>(i);
+    verts->InsertNextCell(1, &id);
+  }
+  d_->cloud->SetPoints(points);
+  d_->cloud->SetVerts(verts);
+
+  // The points per class, most first.
+  std::map<int, int> counts = classCounts();
+  std::vector<std::pair<int, int>> rows(counts.begin(), counts.end());
+  std::sort(rows.begin(), rows.end(),
+            [](const auto& a, const auto& b) { return a.second > b.second; });
+  d_->counts->setRowCount(static_cast<int>(rows.size()));
+  const auto table = scene::classes();
+  for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
+    const auto [id, points_of_class] = rows[static_cast<std::size_t>(r)];
+    const QString name = id < static_cast<int>(table.size())
+                             ? QString::fromStdString(table[static_cast<std::size_t>(id)].name)
+                             : QString("unknown id %1").arg(id);
+    auto* item = new QTableWidgetItem(name);
+    const Rgb c = classColour(static_cast<std::uint32_t>(id));
+    QPixmap swatch(12, 12);
+    swatch.fill(QColor(c[0], c[1], c[2]));
+    item->setIcon(QIcon(swatch));
+    d_->counts->setItem(r, 0, item);
+    d_->counts->setItem(r, 1, new QTableWidgetItem(QString::number(points_of_class)));
+  }
+  recolour();
+}
+
+// Reads the frame's picture of the chosen kind, in colours people can read.
+void ScanView::loadPicture() {
   d_->picture = QImage();
+  d_->picture_problem.clear();
   if (!d_->cameras.isEmpty()) {
     const std::string folder[] = {
         io::DatasetLayout::imageFolder(d_->camera), io::DatasetLayout::semanticFolder(d_->camera),
         io::DatasetLayout::depthFolder(d_->camera), io::DatasetLayout::instanceFolder(d_->camera)};
-    const QString path = file(folder[static_cast<int>(d_->picture_kind)], "png");
+    const QString path = frameFile(folder[static_cast<int>(d_->picture_kind)], "png");
     try {
       const io::PngImage png = io::decodePng(io::readFile(path.toStdString()));
       QImage img(png.width, png.height, QImage::Format_RGB888);
@@ -367,34 +437,34 @@ void ScanView::load() {
       }
       d_->picture = img;
     } catch (const std::exception& e) {
-      problems << QString::fromUtf8(e.what());
+      d_->picture_problem = QString::fromUtf8(e.what());
     }
   }
-  recolour();
   showPicture();
-  const QString what =
-      QString("frame %1 of %2").arg(d_->frame).arg(d_->frames) +
-      (d_->lidars.isEmpty() ? QString() : QString(", %1 points").arg(pointCount()));
-  d_->status->setText(problems.isEmpty() ? what : what + " — " + problems.join("; "));
+  showStatus();
+}
+
+void ScanView::showStatus() {
+  QString text = QString("frame %1 (0 to %2)").arg(d_->frame).arg(std::max(0, d_->frames - 1));
+  if (!d_->lidars.isEmpty())
+    text += QString(", %1 points").arg(pointCount());
+  for (const QString& problem : {d_->scan_problem, d_->picture_problem})
+    if (!problem.isEmpty())
+      text += " — " + problem;
+  d_->status->setText(text);
 }
 
 void ScanView::recolour() {
   const std::size_t n = d_->xyzi.size() / 4;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
-  vtkNew<vtkCellArray> verts;
   d_->colours->SetNumberOfTuples(static_cast<vtkIdType>(n));
   float z_lo = 1e30f, z_hi = -1e30f;
   for (std::size_t i = 0; i < n; ++i) {
     z_lo = std::min(z_lo, d_->xyzi[4 * i + 2]);
     z_hi = std::max(z_hi, d_->xyzi[4 * i + 2]);
   }
+  const double intensity_scale = d_->unit_intensity ? 1.0 : 1.0 / 255.0;
   for (std::size_t i = 0; i < n; ++i) {
     const float* p = &d_->xyzi[4 * i];
-    points->SetPoint(static_cast<vtkIdType>(i), p[0], p[1], p[2]);
-    verts->InsertNextCell(1);
-    verts->InsertCellPoint(static_cast<vtkIdType>(i));
     const std::uint32_t label = d_->labels.empty() ? 0u : d_->labels[i];
     Rgb c{};
     switch (d_->colour) {
@@ -405,7 +475,7 @@ void ScanView::recolour() {
         c = instanceColour(label >> 16);
         break;
       case Colour::kIntensity:
-        c = ramp(p[3]);
+        c = ramp(p[3] * intensity_scale);
         break;
       case Colour::kHeight:
         c = ramp(z_hi > z_lo ? (p[2] - z_lo) / (z_hi - z_lo) : 0.0);
@@ -413,32 +483,9 @@ void ScanView::recolour() {
     }
     d_->colours->SetTypedTuple(static_cast<vtkIdType>(i), c.data());
   }
-  d_->cloud->SetPoints(points);
-  d_->cloud->SetVerts(verts);
+  d_->colours->Modified();
   d_->cloud->GetPointData()->SetScalars(d_->colours);
   d_->cloud->Modified();
-
-  // The points per class, most first.
-  std::map<int, int> counts = classCounts();
-  std::vector<std::pair<int, int>> rows(counts.begin(), counts.end());
-  std::sort(rows.begin(), rows.end(),
-            [](const auto& a, const auto& b) { return a.second > b.second; });
-  d_->counts->setRowCount(static_cast<int>(rows.size()));
-  for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
-    const auto [id, points_of_class] = rows[static_cast<std::size_t>(r)];
-    const auto table = scene::classes();
-    const QString name = id < static_cast<int>(table.size())
-                             ? QString::fromStdString(table[static_cast<std::size_t>(id)].name)
-                             : QString("unknown id %1").arg(id);
-    auto* item = new QTableWidgetItem(name);
-    const Rgb c = classColour(static_cast<std::uint32_t>(id));
-    QPixmap swatch(12, 12);
-    swatch.fill(QColor(c[0], c[1], c[2]));
-    item->setIcon(QIcon(swatch));
-    d_->counts->setItem(r, 0, item);
-    d_->counts->setItem(r, 1, new QTableWidgetItem(QString::number(points_of_class)));
-  }
-
   if (!d_->camera_placed && n > 0) {
     // From behind and above the sensor, looking ahead (KITTI's velodyne axes: x forward, z up).
     vtkCamera* cam = d_->renderer->GetActiveCamera();
@@ -448,6 +495,7 @@ void ScanView::recolour() {
     d_->renderer->ResetCameraClippingRange();
     d_->camera_placed = true;
   }
+  showStatus();
   d_->window->Render();
 }
 
@@ -462,9 +510,10 @@ void ScanView::showPicture() {
           .scaled(d_->image->size(), Qt::KeepAspectRatio, Qt::SmoothTransformation));
 }
 
-void ScanView::resizeEvent(QResizeEvent* event) {
-  QWidget::resizeEvent(event);
-  showPicture();
+bool ScanView::eventFilter(QObject* watched, QEvent* event) {
+  if (watched == d_->image && event->type() == QEvent::Resize)
+    showPicture();  // the picture follows its pane when the splitters move
+  return QWidget::eventFilter(watched, event);
 }
 
 int ScanView::frameCount() const {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <string>
 
 namespace trainsim::studio {
 
@@ -52,12 +53,22 @@ class ScanView : public QWidget {
   QImage grabImage();
 
  protected:
-  void resizeEvent(QResizeEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
+ public:
+  /// The colours the view draws with: the class table's (unlabelled in grey, unknown ids in
+  /// white), and a dark-blue → teal → yellow ramp over [0, 1] (intensity, height, depth).
+  static std::array<std::uint8_t, 3> classColour(std::uint32_t id);
+  static std::array<std::uint8_t, 3> ramp(double t);
 
  private:
-  void load();
+  void loadScan();
+  void loadPicture();
   void recolour();
   void showPicture();
+  void showStatus();
+  void showFrameControls();
+  QString frameFile(const std::string& folder, const char* extension) const;
 
   struct Impl;
   std::unique_ptr<Impl> d_;

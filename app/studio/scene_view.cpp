@@ -3,6 +3,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkCellData.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkLight.h>
 #include <vtkNew.h>
@@ -10,6 +11,7 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtkUnsignedCharArray.h>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
@@ -30,6 +32,10 @@ namespace {
 // What a build hands back to the GUI thread.
 struct Built {
   std::uint64_t request = 0;
+  std::uint64_t generation = 0;  // the plan's it was built from
+  std::shared_ptr<const sim::EnvironmentStage> stage;
+  app::SceneColour colour = app::SceneColour::kMaterial;
+  app::ScenePolyData data;
   std::vector<std::shared_ptr<const scene::Tile>> tiles;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d eye = Eigen::Vector3d::Zero(), focus = Eigen::Vector3d::Zero();
@@ -42,7 +48,6 @@ struct Built {
 
 struct SceneView::Impl {
   std::shared_ptr<const PlanSnapshot> plan;
-  std::uint64_t shown_generation = 0;
   std::uint64_t requests = 0;
   QFutureWatcher<Built> watcher;
   Built built;
@@ -138,6 +143,8 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Imp
   });
 }
 
+// Waits for a build still running: it holds the plan's stages, not the view, but its result
+// would come back to a view that is gone.
 SceneView::~SceneView() {
   d_->watcher.waitForFinished();
 }
@@ -146,9 +153,19 @@ void SceneView::setPlan(std::shared_ptr<const PlanSnapshot> plan) {
   d_->plan = std::move(plan);
   if (d_->plan)
     d_->chainage->setMaximum(d_->plan->plan->route().route.track.length());
-  if (!d_->built.tiles.empty() && d_->plan && d_->plan->generation != d_->shown_generation)
-    d_->status->setText(d_->status->text().section(" — ", 0, 0) +
-                        " — the plan changed: Show builds the new scene");
+  if (!d_->built.tiles.empty())
+    showStatus();
+}
+
+void SceneView::showStatus() {
+  const Built& b = d_->built;
+  QString text = QString("%1 tiles, %2 triangles, built in %3 s")
+                     .arg(b.tiles.size())
+                     .arg(d_->triangles)
+                     .arg(b.seconds, 0, 'f', 1);
+  if (d_->plan && d_->plan->generation != b.generation)
+    text += " — the plan changed since: Show builds the new scene";
+  d_->status->setText(text);
 }
 
 void SceneView::showScene(double chainage_m, double radius_m) {
@@ -163,34 +180,43 @@ void SceneView::showScene(double chainage_m, double radius_m) {
   d_->status->setText(QString("Building the scene within %1 m of chainage %2 m …")
                           .arg(radius_m, 0, 'f', 0)
                           .arg(chainage_m, 0, 'f', 0));
-  d_->shown_generation = d_->plan->generation;
-  d_->watcher.setFuture(QtConcurrent::run([plan = d_->plan, request, chainage_m, radius_m] {
-    Built b;
-    b.request = request;
-    b.radius_m = radius_m;
-    QElapsedTimer timer;
-    timer.start();
-    try {
-      const auto stage = sim::makeEnvironment(*plan->plan, *plan->scenario);
-      const terrain::Railway& railway = *stage->railway;
-      const double length = railway.main().length();
-      const double at_m = std::clamp(chainage_m, 0.0, length);
-      const track::TrackFrame at = railway.frame(0, at_m);
-      const track::TrackFrame ahead = railway.frame(0, std::min(length, at_m + 0.4 * radius_m));
-      b.origin = at.position;
-      b.tiles = stage->environment->stream(16)->window(b.origin, radius_m).tiles;
-      // From behind and above, to the left, looking along the track as a driver would.
-      Eigen::Vector3d left(at.left.x(), at.left.y(), 0.0);
-      left.normalize();
-      b.eye = -0.15 * radius_m * at.tangent + 0.04 * radius_m * left +
-              Eigen::Vector3d(0.0, 0.0, 0.06 * radius_m + 4.0);
-      b.focus = ahead.position - b.origin;
-    } catch (const std::exception& e) {
-      b.error = QString::fromUtf8(e.what());
-    }
-    b.seconds = timer.elapsed() / 1000.0;
-    return b;
-  }));
+  // The environment of the plan shown last is kept: a Show elsewhere on the same plan only
+  // streams other tiles.
+  std::shared_ptr<const sim::EnvironmentStage> stage =
+      d_->built.generation == d_->plan->generation ? d_->built.stage : nullptr;
+  d_->watcher.setFuture(QtConcurrent::run(
+      [plan = d_->plan, stage, colour = d_->colour, request, chainage_m, radius_m]() mutable {
+        Built b;
+        b.request = request;
+        b.generation = plan->generation;
+        b.radius_m = radius_m;
+        b.colour = colour;
+        QElapsedTimer timer;
+        timer.start();
+        try {
+          if (!stage)
+            stage = sim::makeEnvironment(*plan->plan, *plan->scenario);
+          b.stage = stage;
+          const terrain::Railway& railway = *stage->railway;
+          const double length = railway.main().length();
+          const double at_m = std::clamp(chainage_m, 0.0, length);
+          const track::TrackFrame at = railway.frame(0, at_m);
+          const track::TrackFrame ahead = railway.frame(0, std::min(length, at_m + 0.4 * radius_m));
+          b.origin = at.position;
+          b.tiles = stage->environment->stream(16)->window(b.origin, radius_m).tiles;
+          // From behind and above, to the left, looking along the track as a driver would.
+          Eigen::Vector3d left(at.left.x(), at.left.y(), 0.0);
+          left.normalize();
+          b.eye = -0.15 * radius_m * at.tangent + 0.04 * radius_m * left +
+                  Eigen::Vector3d(0.0, 0.0, 0.06 * radius_m + 4.0);
+          b.focus = ahead.position - b.origin;
+          b.data = app::scenePolyData(b.tiles, b.origin, colour);  // here, not on the GUI thread
+        } catch (const std::exception& e) {
+          b.error = QString::fromUtf8(e.what());
+        }
+        b.seconds = timer.elapsed() / 1000.0;
+        return b;
+      }));
 }
 
 void SceneView::setColour(app::SceneColour colour) {
@@ -203,11 +229,14 @@ void SceneView::setColour(app::SceneColour colour) {
 }
 
 void SceneView::draw() {
-  const Built& b = d_->built;
-  const app::ScenePolyData scene = app::scenePolyData(b.tiles, b.origin, d_->colour);
-  d_->triangles = scene.triangles;
-  static_cast<vtkPolyDataMapper*>(d_->surfaces->GetMapper())->SetInputData(scene.surfaces);
-  static_cast<vtkPolyDataMapper*>(d_->wires->GetMapper())->SetInputData(scene.wires);
+  Built& b = d_->built;
+  if (b.colour != d_->colour || !b.data.surfaces) {
+    b.data = app::scenePolyData(b.tiles, b.origin, d_->colour);
+    b.colour = d_->colour;
+  }
+  d_->triangles = b.data.triangles;
+  static_cast<vtkPolyDataMapper*>(d_->surfaces->GetMapper())->SetInputData(b.data.surfaces);
+  static_cast<vtkPolyDataMapper*>(d_->wires->GetMapper())->SetInputData(b.data.wires);
   d_->surfaces->VisibilityOn();
   d_->wires->VisibilityOn();
   vtkCamera* camera = d_->renderer->GetActiveCamera();
@@ -216,11 +245,19 @@ void SceneView::draw() {
   camera->SetViewUp(0, 0, 1);
   camera->SetViewAngle(50.0);
   camera->SetClippingRange(0.5, 4.0 * b.radius_m);
-  d_->status->setText(QString("%1 tiles, %2 triangles, built in %3 s")
-                          .arg(b.tiles.size())
-                          .arg(d_->triangles)
-                          .arg(b.seconds, 0, 'f', 1));
+  showStatus();
   d_->window->Render();
+}
+
+long long SceneView::drawnTriangles() const {
+  return d_->built.data.surfaces ? d_->built.data.surfaces->GetNumberOfPolys() : 0;
+}
+
+std::array<std::uint8_t, 3> SceneView::triangleColour(long long i) const {
+  std::array<std::uint8_t, 3> c{};
+  vtkUnsignedCharArray::SafeDownCast(d_->built.data.surfaces->GetCellData()->GetScalars())
+      ->GetTypedTuple(static_cast<vtkIdType>(i), c.data());
+  return c;
 }
 
 int SceneView::tileCount() const {

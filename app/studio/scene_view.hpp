@@ -2,6 +2,8 @@
 
 #include <QImage>
 #include <QWidget>
+#include <array>
+#include <cstdint>
 #include <memory>
 
 #include "plan_service.hpp"
@@ -28,7 +30,10 @@ class SceneView : public QWidget {
   void setColour(app::SceneColour colour);
 
   int tileCount() const;
+  /// Triangles of the tiles shown, and those in the drawn poly data with their colours.
   long long triangleCount() const;
+  long long drawnTriangles() const;
+  std::array<std::uint8_t, 3> triangleColour(long long i) const;
   /// The tiles shown (for tests: the scene's own tiles, as a run streams them).
   const std::vector<std::shared_ptr<const scene::Tile>>& tiles() const;
   QString status() const;
@@ -39,6 +44,7 @@ class SceneView : public QWidget {
 
  private:
   void draw();
+  void showStatus();
 
   struct Impl;
   std::unique_ptr<Impl> d_;

@@ -17,6 +17,7 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QSurfaceFormat>
 #include <QTabWidget>
 #include <QTableWidget>
@@ -308,17 +309,22 @@ class StudioGuiTest : public QObject {
 
   // The run above opened its dataset in the scan view: its scans and pictures are shown with
   // their labels, read back here by the test's own readers (KITTI's .bin, SemanticKITTI's
-  // .label, Qt's PNG reader), and a scan whose files disagree is reported, not drawn.
+  // .label, Qt's PNG reader), driven through the view's own controls; a scan whose files
+  // disagree is reported, not drawn.
   void theRunsScansAndPicturesAreShownWithTheirLabels() {
+    using trainsim::studio::ScanView;
     MainWindow& w = *window_;
-    trainsim::studio::ScanView* view = w.scans();
+    ScanView* view = w.scans();
     const QString seq = tmp_.filePath("run") + "/sequences/00";
     QVERIFY(QFileInfo::exists(seq + "/velodyne/000000.bin"));
     QCOMPARE(view->lidars(), QStringList{"velodyne"});
     QCOMPARE(view->cameras(), QStringList{"image_2"});
     QCOMPARE(view->frameCount(),
              static_cast<int>(QDir(seq + "/velodyne").entryList(QDir::Files).size()));
-    view->setFrame(42);
+    auto* frame = view->findChild<QSpinBox*>("scanFrame");
+    QVERIFY(frame);
+    frame->setValue(42);
+    QCOMPARE(view->frame(), 42);
     const auto bytes = [](const QString& path) {
       QFile f(path);
       return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
@@ -330,18 +336,30 @@ class StudioGuiTest : public QObject {
     QCOMPARE(label.size() / 4, bin.size() / 16);
     std::vector<std::uint32_t> words(static_cast<std::size_t>(label.size() / 4));
     std::memcpy(words.data(), label.constData(), static_cast<std::size_t>(label.size()));
+    std::vector<float> xyzi(static_cast<std::size_t>(bin.size() / 4));
+    std::memcpy(xyzi.data(), bin.constData(), static_cast<std::size_t>(bin.size()));
     std::map<int, int> counts;
     for (const std::uint32_t word : words)
       ++counts[static_cast<int>(word & 0xFFFFu)];
     QCOMPARE(view->classCounts(), counts);
     QVERIFY(counts.size() >= 5);  // rails, sleepers, trackbed, terrain, poles at least
-    view->setColour(trainsim::studio::ScanView::Colour::kClass);
-    for (std::size_t i = 0; i < words.size(); i += 97)
-      QCOMPARE(view->pointColour(static_cast<int>(i)),
-               trainsim::scene::classes()[words[i] & 0xFFFFu].colour);
-    view->setColour(trainsim::studio::ScanView::Colour::kIntensity);
-    QVERIFY(view->pointColour(0) != trainsim::scene::classes()[words[0] & 0xFFFFu].colour ||
-            view->pointColour(97) != trainsim::scene::classes()[words[97] & 0xFFFFu].colour);
+    // Every point in its class's colour (grey for unlabelled, which the table has black).
+    auto* colour = view->findChild<QComboBox*>("scanColour");
+    QVERIFY(colour);
+    colour->setCurrentIndex(0);
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      const auto want = ScanView::classColour(words[i] & 0xFFFFu);
+      if (view->pointColour(static_cast<int>(i)) != want)
+        QFAIL(qPrintable(QString("point %1 not in its class's colour").arg(i)));
+      if ((words[i] & 0xFFFFu) != 0 &&
+          want != trainsim::scene::classes()[words[i] & 0xFFFFu].colour)
+        QFAIL("a labelled class drawn in another colour than the class table's");
+    }
+    // Every point in its intensity's colour on the ramp.
+    colour->setCurrentIndex(2);
+    for (std::size_t i = 0; i < words.size(); ++i)
+      if (view->pointColour(static_cast<int>(i)) != ScanView::ramp(xyzi[4 * i + 3]))
+        QFAIL(qPrintable(QString("point %1 not in its intensity's colour").arg(i)));
 
     const QImage rgb(seq + "/image_2/000042.png");
     QCOMPARE(view->picture().size(), rgb.size());
@@ -349,34 +367,58 @@ class StudioGuiTest : public QObject {
       const QPoint p((k * 131) % rgb.width(), (k * 71) % rgb.height());
       QCOMPARE(view->picture().pixel(p), rgb.pixel(p));
     }
-    view->setPicture(trainsim::studio::ScanView::Picture::kSemantic);
+    auto* picture = view->findChild<QComboBox*>("scanPicture");
+    QVERIFY(picture);
+    picture->setCurrentIndex(1);  // semantic
     const QImage ids(seq + "/semantic_2/000042.png");
     QCOMPARE(view->picture().size(), ids.size());
     for (int k = 0; k < 50; ++k) {
       const QPoint p((k * 131) % ids.width(), (k * 71) % ids.height());
-      const auto c =
-          trainsim::scene::classes()[static_cast<std::size_t>(qGray(ids.pixel(p)))].colour;
+      const auto c = ScanView::classColour(static_cast<std::uint32_t>(qGray(ids.pixel(p))));
       QCOMPARE(view->picture().pixel(p), qRgb(c[0], c[1], c[2]));
     }
+    picture->setCurrentIndex(2);  // depth: metres × 256, near bright
+    const QImage depth(seq + "/depth_2/000042.png");
+    QCOMPARE(depth.format(), QImage::Format_Grayscale16);
+    int measured = 0;
+    for (int v = 0; v < depth.height(); v += 7)
+      for (int u = 0; u < depth.width(); u += 13) {
+        const quint16 d = reinterpret_cast<const quint16*>(depth.constScanLine(v))[u];
+        const auto c = d == 0 ? std::array<std::uint8_t, 3>{0, 0, 0}
+                              : ScanView::ramp(1.0 - std::min(d / 256.0, 80.0) / 80.0);
+        measured += d != 0;
+        QCOMPARE(view->picture().pixel(u, v), qRgb(c[0], c[1], c[2]));
+      }
+    QVERIFY(measured > 100);
     QVERIFY(view->status().contains("frame 42"));
 
-    // A .label cut short: the scan is not drawn, and the status line names the file.
+    // A .label cut short: the scan is not drawn, and the status line names the file; with the
+    // .label gone, the points are drawn unlabelled and the status line says so.
     QFile cut(seq + "/labels/000001.label");
     QVERIFY(cut.resize(cut.size() - 4));
-    view->setFrame(1);
+    frame->setValue(1);
     QCOMPARE(view->pointCount(), 0);
     QVERIFY2(view->status().contains("000001.label"), qPrintable(view->status()));
-    view->setPicture(trainsim::studio::ScanView::Picture::kRgb);
-    view->setColour(trainsim::studio::ScanView::Colour::kClass);
+    QVERIFY(QFile::remove(seq + "/labels/000002.label"));
+    frame->setValue(2);
+    QVERIFY(view->pointCount() > 10000);
+    QCOMPARE(view->classCounts(), (std::map<int, int>{}));
+    QVERIFY2(view->status().contains("000002.label is missing"), qPrintable(view->status()));
+    picture->setCurrentIndex(0);
+    colour->setCurrentIndex(0);
   }
 
-  // The Scene tab builds what a run streams around a chainage: the same tiles and triangles as
-  // the environment gives the test directly, drawn (the picture is not sky alone).
-  void theSceneAroundAChainageIsWhatARunStreams() {
+  // The Scene tab shows the tiles the environment streams around a chainage: every triangle of
+  // them drawn, each in its part's class colour when coloured by class, and a picture that is
+  // not sky alone; an edit of the plan marks the scene out of date.
+  void theSceneAroundAChainageIsWhatTheEnvironmentStreams() {
     MainWindow& w = *window_;
     trainsim::studio::SceneView* view = w.scene();
     w.viewTabs()->setCurrentWidget(view);
     QSignalSpy shown(view, &trainsim::studio::SceneView::sceneShown);
+    auto* colours = view->findChild<QComboBox*>("sceneColour");
+    QVERIFY(colours);
+    colours->setCurrentIndex(1);  // classes
     view->showScene(300.0, 150.0);
     QVERIFY(shown.wait(120000));
     const auto plan = w.plan();
@@ -384,13 +426,18 @@ class StudioGuiTest : public QObject {
     const auto at = stage->railway->frame(0, 300.0).position;
     const auto tiles = stage->environment->stream(16)->window(at, 150.0).tiles;
     QCOMPARE(view->tileCount(), static_cast<int>(tiles.size()));
-    long long triangles = 0;
+    // The triangles in the order the view lays them out: tile by tile, object by object.
+    long long k = 0;
     for (const auto& tile : tiles)
-      triangles += static_cast<long long>(tile->triangleCount());
-    QVERIFY(triangles > 10000);
-    QCOMPARE(view->triangleCount(), triangles);
-    view->setColour(trainsim::app::SceneColour::kClass);
-    QCOMPARE(view->triangleCount(), triangles);
+      for (const auto& object : tile->objects)
+        for (const auto& part : object.mesh->parts)
+          for (std::uint32_t t = 0; t < part.triangle_count; ++t, ++k)
+            if (k % 101 == 0 &&
+                view->triangleColour(k) != trainsim::scene::semanticClass(part.cls).colour)
+              QFAIL(qPrintable(QString("triangle %1 not in its class's colour").arg(k)));
+    QVERIFY(k > 10000);
+    QCOMPARE(view->triangleCount(), k);
+    QCOMPARE(view->drawnTriangles(), k);
     const QImage picture = view->grabImage();
     const QRgb sky = picture.pixel(picture.width() / 2, 2);
     int drawn = 0;
@@ -399,7 +446,15 @@ class StudioGuiTest : public QObject {
         drawn += picture.pixel(x, y) != sky;
     QVERIFY2(drawn > (picture.width() / 8) * (picture.height() / 8) / 3,
              qPrintable(QString("%1 of the sampled pixels drawn").arg(drawn)));
-    view->setColour(trainsim::app::SceneColour::kMaterial);
+    colours->setCurrentIndex(0);
+    QCOMPARE(view->drawnTriangles(), k);
+    // An edit re-plans; the scene shown is then out of date until the next Show.
+    QSignalSpy planned(&w, &MainWindow::planShown);
+    typeInto(w, "train.body.roof_m", "3.9");
+    QVERIFY(planned.wait(60000));
+    QVERIFY2(view->status().contains("the plan changed"), qPrintable(view->status()));
+    w.document()->undoStack()->undo();
+    QVERIFY(planned.wait(60000));
   }
 
   void selectingATimeMarksTheTrain() {
