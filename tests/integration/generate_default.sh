@@ -120,4 +120,18 @@ cmp -s "$WORK/t1/sequences/00/poses.txt" "$WORK/d/sequences/00/poses.txt" &&
 expect_exit 0 "generate from stdin" -- bash -c \
   "\"$TRAINSIM\" generate - --out \"$WORK/e\" <\"$WORK/short.json\""
 diff -r "$WORK/t1" "$WORK/e" >/dev/null && pass "stdin run identical" || fail "stdin run differs"
+# A second camera turned against camera 0: its P is K [R | t], which KITTI's rectified readers
+# misread, and the run says so; one turned as camera 0 is not warned about.
+cat >"$WORK/turned.json" <<'JSON'
+{"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 300}]},
+ "trajectory": {"static_only": true, "standstill_start_s": 1},
+ "dataset": {"frame_period_ns": 1000000000},
+ "sensors": {"cameras": [{"width": 64, "height": 48, "period_ns": 1000000000},
+   {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "y_m": -0.5, "z_m": 3.2}},
+   {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "z_m": 3.2, "yaw_deg": 90}}]}}
+JSON
+expect_exit 0 "generate with a turned camera" -- "$TRAINSIM" generate "$WORK/turned.json" --out "$WORK/turned" --progress none
+expect_contains "$WORK/err" "sensors.cameras[2]: the camera is turned against camera 0, so calib.txt's P4 is K [R | t]" "the turned camera's P is flagged"
+grep -q "sensors.cameras\[1\]: the camera is turned" "$WORK/err" && fail "a camera turned as camera 0 was flagged" ||
+  pass "a camera turned as camera 0 is not flagged"
 finish

@@ -15,6 +15,7 @@
 #include "trainsim/camera/renderer.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/core/log.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/io/png.hpp"
 #include "trainsim/scene/mesh.hpp"
@@ -294,6 +295,16 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
     T_body_cam_ = bodyFromCamera(c.basics.mount.mount());
+    // KITTI's P1, P2, P3 are rectified: K [I | t], every camera turned as camera 0. A camera
+    // turned against camera 0 gets P = K [R | t], which projects correctly, but readers that
+    // take K from P's left 3 × 3 (pykitti) get K R instead. Said once, when the run starts.
+    const Eigen::Matrix3d R = (T_body_cam_.inverse() * T_body_cam0_).linear();
+    if ((R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9)
+      logWarn(fmt::format(
+          "{}: the camera is turned against camera 0, so calib.txt's P{} is K [R | t], not a "
+          "rectified K [I | t]: project with it whole; readers that take K from its left 3 x 3 "
+          "(pykitti) get K R",
+          setup.path, index_ + 2));
     // The train's own body (train.body) is in the picture of a camera outside it (one looking
     // back along the roof, or down at it), as the box that stops the LiDARs' rays: unlabelled,
     // no instance. A camera inside the box is behind the windscreen and sees out.
