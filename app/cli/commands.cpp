@@ -58,8 +58,8 @@ struct PlanArgs : CommonOptions {
 struct EvaluateArgs {
   std::string gt, est, calib;
   std::vector<double> lengths = evaluation::EvaluateOptions{}.lengths_m;
-  std::size_t step = 10;
-  double eod_from_m = 10.0;
+  std::size_t step = evaluation::EvaluateOptions{}.step;
+  double eod_from_m = evaluation::EvaluateOptions{}.eod_from_m;
   bool json = false;
 };
 
@@ -332,7 +332,7 @@ void addCommands(CLI::App& app) {
       ->required();
   evaluate_cmd->add_option("--calib", evaluate.calib,
                            "calib.txt: TEX, TEY and EOD in the velodyne's axes (its Tr), not "
-                           "the vehicle's");
+                           "camera 0's renamed");
   evaluate_cmd
       ->add_option("--lengths", evaluate.lengths,
                    "Segment lengths (m), comma-separated; the devkit's by default")
