@@ -64,7 +64,10 @@ TEST(SemanticTable, NamedIdsMatchTheTable) {
       {scene::mat::kCopper, "copper"},
       {scene::mat::kAsphalt, "asphalt"},
       {scene::mat::kPaintedMetal, "painted_metal"},
-      {scene::mat::kRetroreflector, "retroreflector"}};
+      {scene::mat::kRetroreflector, "retroreflector"},
+      {scene::mat::kSignalLensRed, "signal_lens_red"},
+      {scene::mat::kSignalLensYellow, "signal_lens_yellow"},
+      {scene::mat::kSignalLensGreen, "signal_lens_green"}};
   for (const auto& [id, name] : materials)
     EXPECT_EQ(scene::materialId(name), id) << name;
   for (const auto& m : scene::materials()) {

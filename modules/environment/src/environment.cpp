@@ -39,6 +39,15 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
   scene::addCylinder(*signal, {0, 0, -0.3f}, {0, 0, 4.6f}, 0.07f, 0.07f, 8);
   signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
   scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
+  // Three lamps, red over yellow over green, on the face the approaching train sees (−x: the
+  // signal's x runs along the track, the way the train goes).
+  const std::pair<float, scene::MaterialId> lamps[] = {{4.85f, scene::mat::kSignalLensRed},
+                                                       {4.55f, scene::mat::kSignalLensYellow},
+                                                       {4.25f, scene::mat::kSignalLensGreen}};
+  for (const auto& [z, lens] : lamps) {
+    signal->beginPart(scene::cls::kSignal, lens);
+    scene::addCylinder(*signal, {-0.15f, 0.0f, z}, {-0.19f, 0.0f, z}, 0.09f, 0.09f, 12);
+  }
   signal_ = std::move(signal);
   if (const track::EarthPlacement* earth = railway_->main().earth())
     anchor_.emplace(earth->anchor());

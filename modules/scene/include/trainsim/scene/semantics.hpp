@@ -71,7 +71,8 @@ inline constexpr MaterialId kNone = 0, kRailHead = 1, kRailWeb = 2, kConcrete = 
                             kBallastGranite = 4, kBallastBasalt = 5, kGrass = 6, kDryGrass = 7,
                             kSoil = 8, kLeaves = 9, kNeedles = 10, kBark = 11, kRock = 12,
                             kBrick = 13, kPlaster = 14, kRoofTile = 15, kGalvanisedSteel = 16,
-                            kCopper = 17, kAsphalt = 18, kPaintedMetal = 19, kRetroreflector = 20;
+                            kCopper = 17, kAsphalt = 18, kPaintedMetal = 19, kRetroreflector = 20,
+                            kSignalLensRed = 21, kSignalLensYellow = 22, kSignalLensGreen = 23;
 }  // namespace mat
 
 /// What made an object, the top byte of its instance id.
