@@ -4,7 +4,6 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
-#include <vtkFloatArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -97,26 +96,29 @@ std::array<std::uint8_t, 3> ScanView::ramp(double t) {
 
 namespace {
 
-// The folders of a sequence named `prefix` and `prefix_N`, or `prefix` followed by a number
-// (image_2, image_3, …), in their sensors' order.
-QStringList folders(const QDir& sequence, const QString& prefix, bool numbered) {
+// The LiDARs and cameras a sequence has, by their folders (io::DatasetLayout's names): LiDAR i
+// writes velodyne[_i]/, camera i whichever of image_N/, depth_N/, semantic_N/ and instance_N/
+// it was asked for; listed by their first folder's name, in their sensors' order.
+QStringList lidarFolders(const QDir& sequence) {
   QStringList out;
-  if (numbered) {
-    // A camera writes image_N, depth_N, semantic_N or instance_N, whichever it was asked for.
-    const auto has = [&](int n) {
-      for (const char* p : {"image_", "depth_", "semantic_", "instance_"})
-        if (sequence.exists(QString("%1%2").arg(p).arg(n)))
-          return true;
-      return false;
-    };
-    for (int n = 2; has(n); ++n)
-      out << QString("%1%2").arg(prefix).arg(n);
-    return out;
-  }
-  if (sequence.exists(prefix))
-    out << prefix;
-  for (int n = 1; sequence.exists(QString("%1_%2").arg(prefix).arg(n)); ++n)
-    out << QString("%1_%2").arg(prefix).arg(n);
+  for (int i = 0; sequence.exists(QString::fromStdString(io::DatasetLayout::velodyneFolder(i)));
+       ++i)
+    out << QString::fromStdString(io::DatasetLayout::velodyneFolder(i));
+  return out;
+}
+
+QStringList cameraFolders(const QDir& sequence) {
+  const auto has = [&](int i) {
+    for (const std::string& folder :
+         {io::DatasetLayout::imageFolder(i), io::DatasetLayout::depthFolder(i),
+          io::DatasetLayout::semanticFolder(i), io::DatasetLayout::instanceFolder(i)})
+      if (sequence.exists(QString::fromStdString(folder)))
+        return true;
+    return false;
+  };
+  QStringList out;
+  for (int i = 0; has(i); ++i)
+    out << QString::fromStdString(io::DatasetLayout::imageFolder(i));
   return out;
 }
 
@@ -246,8 +248,8 @@ bool ScanView::setDataset(const QString& root) {
   const io::Manifest manifest = io::Manifest::read(root.toStdString());
   const QDir sequence(QDir(root).filePath(QString::fromStdString(manifest.sequence_dir)));
   d_->sequence = sequence.absolutePath();
-  d_->lidars = folders(sequence, io::DatasetLayout::velodyneFolder(0).c_str(), false);
-  d_->cameras = folders(sequence, "image_", true);
+  d_->lidars = lidarFolders(sequence);
+  d_->cameras = cameraFolders(sequence);
   d_->frames = static_cast<int>(manifest.frames);
   d_->frame = d_->lidar = d_->camera = 0;
   d_->camera_placed = false;
