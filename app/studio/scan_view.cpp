@@ -13,6 +13,8 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkUnsignedCharArray.h>
+#include <Eigen/Core>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDir>
 #include <QEvent>
@@ -29,11 +31,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <vector>
 
+#include "trainsim/camera/kitti_projection.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/io/dataset_layout.hpp"
 #include "trainsim/io/file_io.hpp"
+#include "trainsim/io/kitti_calib.hpp"
 #include "trainsim/io/png.hpp"
 #include "trainsim/scene/semantics.hpp"
 
@@ -122,6 +127,46 @@ QStringList cameraFolders(const QDir& sequence) {
   return out;
 }
 
+// The shown LiDAR's projection into the shown camera, from calib.txt's lines for the pair: Tr or
+// Tr_N, P_{camera + 2} and D_{camera + 2} when the camera has a lens.
+std::optional<camera::KittiProjection> pairProjection(const io::KittiCalib& calib, int lidar,
+                                                      int camera, QString& problem) {
+  const std::string p_name = "P" + std::to_string(camera + 2);
+  const std::string tr_name = lidar == 0 ? "Tr" : "Tr_" + std::to_string(lidar);
+  const std::string d_name = "D" + std::to_string(camera + 2);
+  const auto matrix = [&](const std::string& name) -> std::optional<Eigen::Matrix<double, 3, 4>> {
+    const auto it = calib.find(name);
+    if (it == calib.end() || it->second.size() != 12) {
+      problem = QString(
+                    "calib.txt has no %1 of 12 numbers: the points are not drawn on the "
+                    "picture")
+                    .arg(QString::fromStdString(name));
+      return std::nullopt;
+    }
+    return Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(it->second.data());
+  };
+  const auto P = matrix(p_name), Tr = matrix(tr_name);
+  if (!P || !Tr)
+    return std::nullopt;
+  std::optional<camera::Distortion> lens;
+  if (const auto d = calib.find(d_name); d != calib.end()) {
+    if (d->second.size() != 5) {
+      problem = QString(
+                    "calib.txt's %1 is not k1 k2 p1 p2 k3: the points are not drawn on the "
+                    "picture")
+                    .arg(QString::fromStdString(d_name));
+      return std::nullopt;
+    }
+    lens = camera::Distortion{d->second[0], d->second[1], d->second[2], d->second[3], d->second[4]};
+  }
+  std::string why;
+  auto out = camera::KittiProjection::fromCalib(*P, *Tr, lens, why);
+  if (!out)
+    problem = QString("calib.txt's %1: %2; the points are not drawn on the picture")
+                  .arg(QString::fromStdString(p_name), QString::fromStdString(why));
+  return out;
+}
+
 }  // namespace
 
 struct ScanView::Impl {
@@ -132,9 +177,12 @@ struct ScanView::Impl {
   Picture picture_kind = Picture::kRgb;
   std::vector<float> xyzi;            // the scan: x y z intensity per point
   std::vector<std::uint32_t> labels;  // class | instance << 16 per point
-  QImage picture;
-  QString scan_problem, picture_problem;  // shown in the status line
-  bool unit_intensity = true;             // intensities in 0..1 (else the VLP-16's 0..255)
+  QImage base, picture;               // the camera's picture, and with the points drawn on it
+  bool overlay = false;
+  io::KittiCalib calib;
+  std::optional<camera::KittiProjection> projection;  // of the shown LiDAR into the shown camera
+  QString scan_problem, picture_problem, overlay_problem;  // shown in the status line
+  bool unit_intensity = true;  // intensities in 0..1 (else the VLP-16's 0..255)
   bool camera_placed = false;
 
   QVTKOpenGLNativeWidget* widget = nullptr;
@@ -148,6 +196,7 @@ struct ScanView::Impl {
   QComboBox* camera_box = nullptr;
   QComboBox* colour_box = nullptr;
   QComboBox* picture_box = nullptr;
+  QCheckBox* overlay_box = nullptr;
   QSpinBox* frame_spin = nullptr;
   QSlider* frame_slider = nullptr;
   QLabel* image = nullptr;
@@ -169,6 +218,11 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
   d_->picture_box = new QComboBox;
   d_->picture_box->setObjectName("scanPicture");
   d_->picture_box->addItems({"RGB", "semantic", "depth", "instances"});
+  d_->overlay_box = new QCheckBox("LiDAR on picture");
+  d_->overlay_box->setObjectName("scanOverlay");
+  d_->overlay_box->setToolTip(
+      "Draw the scan's points on the picture where calib.txt projects them, in the scan's "
+      "colours");
   d_->frame_spin = new QSpinBox;
   d_->frame_spin->setObjectName("scanFrame");
   d_->frame_spin->setKeyboardTracking(false);  // a typed number loads once, when it is whole
@@ -181,6 +235,7 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
   bar->addWidget(new QLabel("camera"));
   bar->addWidget(d_->camera_box);
   bar->addWidget(d_->picture_box);
+  bar->addWidget(d_->overlay_box);
   bar->addWidget(new QLabel("frame"));
   bar->addWidget(d_->frame_spin);
   bar->addWidget(d_->frame_slider, 1);
@@ -240,6 +295,7 @@ ScanView::ScanView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Impl>
           [this](int i) { setColour(static_cast<Colour>(std::max(0, i))); });
   connect(d_->picture_box, qOverload<int>(&QComboBox::currentIndexChanged), this,
           [this](int i) { setPicture(static_cast<Picture>(std::max(0, i))); });
+  connect(d_->overlay_box, &QCheckBox::toggled, this, &ScanView::setOverlay);
 }
 
 ScanView::~ScanView() = default;
@@ -251,6 +307,16 @@ bool ScanView::setDataset(const QString& root) {
   d_->lidars = lidarFolders(sequence);
   d_->cameras = cameraFolders(sequence);
   d_->frames = static_cast<int>(manifest.frames);
+  d_->calib.clear();
+  d_->overlay_problem.clear();
+  if (!d_->lidars.isEmpty() && !d_->cameras.isEmpty()) {
+    const std::string calib = sequence.filePath("calib.txt").toStdString();
+    try {
+      d_->calib = io::parseKittiCalib(io::readFile(calib), calib);
+    } catch (const std::exception& e) {
+      d_->overlay_problem = QString::fromUtf8(e.what());
+    }
+  }
   d_->frame = d_->lidar = d_->camera = 0;
   d_->camera_placed = false;
   for (QComboBox* box : {d_->lidar_box, d_->camera_box})
@@ -262,6 +328,7 @@ bool ScanView::setDataset(const QString& root) {
   for (QComboBox* box : {d_->lidar_box, d_->camera_box})
     box->blockSignals(false);
   showFrameControls();
+  updateProjection();
   loadScan();
   loadPicture();
   if (d_->lidars.isEmpty() && d_->cameras.isEmpty()) {
@@ -296,12 +363,14 @@ void ScanView::setFrame(int frame) {
 
 void ScanView::setLidar(int index) {
   d_->lidar = std::clamp(index, 0, std::max(0, static_cast<int>(d_->lidars.size()) - 1));
+  updateProjection();
   if (!d_->sequence.isEmpty())
     loadScan();
 }
 
 void ScanView::setCamera(int index) {
   d_->camera = std::clamp(index, 0, std::max(0, static_cast<int>(d_->cameras.size()) - 1));
+  updateProjection();
   if (!d_->sequence.isEmpty())
     loadPicture();
 }
@@ -321,6 +390,23 @@ void ScanView::setPicture(Picture picture) {
   d_->picture_box->blockSignals(false);
   if (!d_->sequence.isEmpty())
     loadPicture();
+}
+
+void ScanView::setOverlay(bool on) {
+  d_->overlay = on;
+  d_->overlay_box->blockSignals(true);
+  d_->overlay_box->setChecked(on);
+  d_->overlay_box->blockSignals(false);
+  composePicture();
+}
+
+// The shown pair's projection; a calib.txt that could not be read keeps its problem.
+void ScanView::updateProjection() {
+  d_->projection.reset();
+  if (d_->calib.empty())
+    return;
+  d_->overlay_problem.clear();
+  d_->projection = pairProjection(d_->calib, d_->lidar, d_->camera, d_->overlay_problem);
 }
 
 QString ScanView::frameFile(const std::string& folder, const char* extension) const {
@@ -406,7 +492,7 @@ void ScanView::loadScan() {
 
 // Reads the frame's picture of the chosen kind, in colours people can read.
 void ScanView::loadPicture() {
-  d_->picture = QImage();
+  d_->base = QImage();
   d_->picture_problem.clear();
   if (!d_->cameras.isEmpty()) {
     const std::string folder[] = {
@@ -437,20 +523,59 @@ void ScanView::loadPicture() {
           std::memcpy(row + 3 * u, c.data(), 3);
         }
       }
-      d_->picture = img;
+      d_->base = img;
     } catch (const std::exception& e) {
       d_->picture_problem = QString::fromUtf8(e.what());
+    }
+  }
+  composePicture();
+}
+
+// The picture, with the scan's points drawn on it when asked: squares of a few pixels in the
+// points' colours, far points first so that near ones stay on top.
+void ScanView::composePicture() {
+  d_->picture = d_->base;
+  if (d_->overlay && !d_->picture.isNull()) {
+    QImage& img = d_->picture;
+    const int r = std::max(1, img.width() / 800);
+    for (const Projected& p : projected()) {
+      const Rgb c = pointColour(p.point);
+      const int u0 = static_cast<int>(std::lround(p.u)), v0 = static_cast<int>(std::lround(p.v));
+      for (int v = std::max(0, v0 - r); v <= std::min(img.height() - 1, v0 + r); ++v) {
+        std::uint8_t* row = img.scanLine(v);
+        for (int u = std::max(0, u0 - r); u <= std::min(img.width() - 1, u0 + r); ++u)
+          std::memcpy(row + 3 * u, c.data(), 3);
+      }
     }
   }
   showPicture();
   showStatus();
 }
 
+std::vector<ScanView::Projected> ScanView::projected() const {
+  std::vector<Projected> out;
+  if (!d_->projection || d_->base.isNull())
+    return out;
+  const std::size_t n = d_->xyzi.size() / 4;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* p = &d_->xyzi[4 * i];
+    if (const auto px = d_->projection->project(Eigen::Vector3d(p[0], p[1], p[2]), d_->base.width(),
+                                                d_->base.height()))
+      out.push_back({px->x(), px->y(), px->z(), static_cast<int>(i)});
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Projected& a, const Projected& b) { return a.depth > b.depth; });
+  return out;
+}
+
 void ScanView::showStatus() {
   QString text = QString("frame %1 (0 to %2)").arg(d_->frame).arg(std::max(0, d_->frames - 1));
   if (!d_->lidars.isEmpty())
     text += QString(", %1 points").arg(pointCount());
-  for (const QString& problem : {d_->scan_problem, d_->picture_problem})
+  QStringList problems{d_->scan_problem, d_->picture_problem};
+  if (d_->overlay)
+    problems << d_->overlay_problem;
+  for (const QString& problem : problems)
     if (!problem.isEmpty())
       text += " — " + problem;
   d_->status->setText(text);
@@ -488,6 +613,8 @@ void ScanView::recolour() {
   d_->colours->Modified();
   d_->cloud->GetPointData()->SetScalars(d_->colours);
   d_->cloud->Modified();
+  if (d_->overlay)
+    composePicture();
   if (!d_->camera_placed && n > 0) {
     // From behind and above the sensor, looking ahead (KITTI's velodyne axes: x forward, z up).
     vtkCamera* cam = d_->renderer->GetActiveCamera();

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace trainsim::studio {
 
@@ -16,8 +17,11 @@ namespace trainsim::studio {
 /// (velodyne/NNNNNN.bin and labels/NNNNNN.label, read as KITTI and SemanticKITTI define them)
 /// as a point cloud coloured by class, instance, intensity or height, the frame's points per
 /// class, and a camera's picture beside it (RGB, semantic in the classes' colours, depth, or
-/// instances). Files that disagree (a .label whose length is not the .bin's) are reported in the
-/// view's status line, not drawn.
+/// instances), optionally with the scan's points drawn on it where they project through
+/// calib.txt (Tr or Tr_N into camera 0's frame, then the camera's P and its lens's D), in the
+/// colours the scan is drawn in. Files that disagree (a .label whose length is not the .bin's,
+/// a calib.txt without the lines the pair needs) are reported in the view's status line, not
+/// drawn.
 class ScanView : public QWidget {
   Q_OBJECT
 
@@ -37,6 +41,19 @@ class ScanView : public QWidget {
   void setCamera(int index);
   void setColour(Colour colour);
   void setPicture(Picture picture);
+  /// Draws the scan's points on the picture (off at first).
+  void setOverlay(bool on);
+
+  /// A point of the scan as it projects into the camera: its pixel (KITTI's convention: pixel
+  /// centres at whole numbers), its depth along the camera's optical axis, and its index in
+  /// the scan.
+  struct Projected {
+    double u = 0.0, v = 0.0, depth = 0.0;
+    int point = 0;
+  };
+  /// The scan's points that project into the shown picture (in front of the camera, inside the
+  /// image), far first; empty when there is no scan, picture or calibration for the pair.
+  std::vector<Projected> projected() const;
 
   int frameCount() const;
   int frame() const;
@@ -65,6 +82,8 @@ class ScanView : public QWidget {
   void loadScan();
   void loadPicture();
   void recolour();
+  void updateProjection();
+  void composePicture();
   void showPicture();
   void showStatus();
   void showFrameControls();
