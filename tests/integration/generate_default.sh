@@ -134,4 +134,19 @@ expect_exit 0 "generate with a turned camera" -- "$TRAINSIM" generate "$WORK/tur
 expect_contains "$WORK/err" "sensors.cameras[2]: the camera is turned against camera 0, so calib.txt's P4 is K [R | t]" "the turned camera's P is flagged"
 grep -q "sensors.cameras\[1\]: the camera is turned" "$WORK/err" && fail "a camera turned as camera 0 was flagged" ||
   pass "a camera turned as camera 0 is not flagged"
+# Dual returns with one ray a pulse have nothing to pair: the run says so (and not for a LiDAR
+# whose pulses have sub-rays). Without a camera, calib.txt still has P0-P3 for pykitti.
+cat >"$WORK/dual.json" <<'JSON'
+{"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 300}]},
+ "trajectory": {"static_only": true, "standstill_start_s": 1},
+ "dataset": {"frame_period_ns": 1000000000},
+ "sensors": {"lidars": [{"model": "vlp16", "period_ns": 1000000000, "returns": "dual"},
+   {"name": "divergent", "model": "vlp16", "period_ns": 1000000000, "returns": "dual", "sub_rays": 4, "mount": {"x_m": 9}}]}}
+JSON
+expect_exit 0 "generate with dual returns" -- "$TRAINSIM" generate "$WORK/dual.json" --out "$WORK/dual" --progress none
+expect_contains "$WORK/err" "sensors.lidars[0]: returns is dual but sub_rays is 1" "dual returns without sub-rays are flagged"
+grep -q "sensors.lidars\[1\]: returns is dual" "$WORK/err" && fail "dual returns with sub-rays were flagged" ||
+  pass "dual returns with sub-rays are not flagged"
+[ "$(cut -d: -f1 "$WORK/dual/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr Tr_1 " ] &&
+  pass "LiDAR-only calib.txt: P0 P1 P2 P3 Tr Tr_1" || fail "LiDAR-only calib.txt keys: $(cut -d: -f1 "$WORK/dual/sequences/00/calib.txt")"
 finish

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -381,6 +382,45 @@ TEST(Scanner, AFrameIsTheSameOnOneThreadAndOnTwo) {
     ASSERT_EQ(std::memcmp(one[i].xyz.data(), two[i].xyz.data(), sizeof(float) * 3), 0);
     ASSERT_EQ(one[i].range_m, two[i].range_m);
     ASSERT_EQ(one[i].ring, two[i].ring);
+  }
+}
+
+// Ctrl-C during a scan: the columns not yet cast are skipped and the scan throws Cancelled;
+// the scanner then scans as before, and an unset flag changes nothing.
+TEST(Scanner, ACancelledScanStopsPartWayAndTheNextScanIsWhole) {
+  const Eigen::Vector3d O(1.0e6, 0, 0);
+  const auto tile = room(O, 25.0);
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p = uniformParams(32, 4096);
+  p.motion_distortion = true;  // the pose is asked for along the scan: the test's clock
+  const lidar::Scanner scanner(p);
+  std::atomic<bool> cancel = false;
+  std::atomic<int> asked = 0;
+  const auto pose = [&](double t) {
+    if (++asked == 20)
+      cancel = true;  // the user presses Ctrl-C part-way through
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = O + Eigen::Vector3d(20.0 * t, 1.0, 0.5);
+    return T;
+  };
+  const RandomStream random(9, "l");
+  lidar::LidarFrame frame;
+  EXPECT_THROW(scanner.scan(scene, pose, random, 5, frame, &cancel), Cancelled);
+  // A column task asks for two poses a 16-column anchor: 4096 columns would ask for 512 or
+  // more; the tasks started before the flag (one per thread) finish, the rest are skipped.
+  EXPECT_LT(asked.load(), 20 + 2 * 2 * 16);
+  cancel = false;
+  const auto whole = scanner.scan(scene, pose, random, 5);
+  lidar::LidarFrame again;
+  scanner.scan(scene, pose, random, 5, again, &cancel);
+  ASSERT_EQ(again.points.size(), whole.points.size());
+  EXPECT_GT(whole.points.size(), static_cast<std::size_t>(32 * 4096 * 9 / 10));
+  for (std::size_t i = 0; i < whole.points.size(); ++i) {
+    ASSERT_EQ(std::memcmp(again.points[i].xyz.data(), whole.points[i].xyz.data(), 12), 0);
+    ASSERT_EQ(again.points[i].range_m, whole.points[i].range_m);
+    ASSERT_EQ(again.points[i].ring, whole.points[i].ring);
+    ASSERT_EQ(again.points[i].column, whole.points[i].column);
   }
 }
 

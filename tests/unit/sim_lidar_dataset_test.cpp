@@ -297,6 +297,13 @@ TEST(LidarDataset, RingsComeBackByTheQuadrantRuleInKittiOrder) {
 TEST(LidarDataset, CalibrationAndClassTableAreWhatTheToolsExpect) {
   const auto calib = readCalib();
   ASSERT_EQ(calib.count("Tr"), 1u);
+  // No camera: P0–P3 are [I | 0] (camera 0's frame, unit focal length), as pykitti's odometry
+  // loader reads all four.
+  ASSERT_EQ(calib.size(), 5u);
+  for (const char* p : {"P0", "P1", "P2", "P3"}) {
+    ASSERT_EQ(calib.count(p), 1u) << p;
+    EXPECT_TRUE(calib.at(p).matrix().isIdentity(0.0)) << p;
+  }
   // Tr maps the velodyne frame into camera 0 (the body reference point with KITTI camera
   // axes): the mount, worked out here independently.
   const Eigen::Matrix3d R_body_velo =
@@ -330,6 +337,20 @@ TEST(LidarDataset, CalibrationAndClassTableAreWhatTheToolsExpect) {
                           "learning_ignore", "semantickitti_map"})
     EXPECT_EQ(entries[key], static_cast<int>(scene::classes().size())) << key;
   EXPECT_NEAR(content, 1.0, 1e-6);
+
+  // manifest.json carries the same class table (PRODUCT.md's dataset layout), read back here
+  // as plain JSON.
+  const auto manifest = nlohmann::json::parse(io::readFile(dataset() / "manifest.json"));
+  const nlohmann::json& classes = manifest.at("classes");
+  ASSERT_EQ(classes.size(), scene::classes().size());
+  for (const scene::SemanticClass& c : scene::classes()) {
+    const nlohmann::json& row = classes.at(c.id);
+    EXPECT_EQ(row.at("id"), c.id);
+    EXPECT_EQ(row.at("name"), c.name);
+    EXPECT_EQ(row.at("colour"), nlohmann::json::array({c.colour[0], c.colour[1], c.colour[2]}));
+    EXPECT_EQ(row.at("thing"), c.thing);
+    EXPECT_EQ(row.at("semantickitti"), c.semantickitti);
+  }
 }
 
 // --- An independent reference: brute-force ray casting in double ----------------------------

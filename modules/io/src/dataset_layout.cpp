@@ -100,7 +100,7 @@ nlohmann::json Manifest::toJson() const {
       item["summary"] = s.summary;
     list.push_back(std::move(item));
   }
-  return {
+  nlohmann::json out = {
       {"format", kFormat},
       {"version", version},
       {"scenario_hash", scenario_hash},
@@ -112,6 +112,9 @@ nlohmann::json Manifest::toJson() const {
       {"sensors", list},
       {"not_simulated", not_simulated},
   };
+  if (!classes.is_null())
+    out["classes"] = classes;
+  return out;
 }
 
 Manifest Manifest::fromJson(const nlohmann::json& doc, const std::string& source) {
@@ -134,6 +137,7 @@ Manifest Manifest::fromJson(const nlohmann::json& doc, const std::string& source
                            s.at("files").get<std::vector<std::string>>(),
                            s.value("summary", nlohmann::json())});
     m.not_simulated = doc.at("not_simulated").get<std::vector<std::string>>();
+    m.classes = doc.value("classes", nlohmann::json());
     return m;
   } catch (const nlohmann::json::exception& e) {
     throw IoError(fmt::format("{}: not a readable TrainSim manifest ({})", source, e.what()));

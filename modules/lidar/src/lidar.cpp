@@ -326,19 +326,28 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
 }
 
 void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
-                   std::uint64_t frame, LidarFrame& out) const {
+                   std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel) const {
   const ScanPattern& p = params_.pattern;
   const std::size_t W = static_cast<std::size_t>(p.columns), R = returnsPerPulse();
   std::unique_ptr<Scratch> scratch = scratch_.take([this] { return makeScratch(); });
   Scratch& w = *scratch;
   const Eigen::Isometry3d frame_pose = pose(0.0);
   const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
+  std::atomic<bool> cancelled = false;
   tbb::parallel_for(tbb::blocked_range<int>(0, p.columns, kColumnGrain), [&](const auto& range) {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
+      cancelled.store(true, std::memory_order_relaxed);
+      return;
+    }
     std::unique_ptr<Block> block = blocks_.take();
     castColumns(scene, pose, frame_pose, world_to_frame, random, frame, range.begin(), range.end(),
                 *block, w);
     blocks_.give(std::move(block));
   });
+  if (cancelled.load()) {
+    scratch_.give(std::move(scratch));
+    throw Cancelled("run cancelled during a LiDAR scan");
+  }
 
   // KITTI order: ring by ring, each by the azimuth of its written coordinates (points whose
   // float keys are equal, by slot: by column). Each ring sorts (key, slot) words, not the points,

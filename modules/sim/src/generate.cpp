@@ -39,6 +39,15 @@ io::Manifest manifest(const scenario::Scenario& scenario, const io::DatasetLayou
   m.sample_period_ns = trajectorySection().read(scenario.json()).sample_period_ns;
   m.samples = trajectory ? trajectory->sampleCount() : 0;
   m.not_simulated = report.not_run;
+  m.classes = nlohmann::json::array();
+  for (const scene::SemanticClass& c : scene::classes())
+    m.classes.push_back({{"id", c.id},
+                         {"name", c.name},
+                         {"colour", c.colour},
+                         {"thing", c.thing},
+                         {"semantickitti", c.semantickitti},
+                         {"railsem19", c.railsem19},
+                         {"osdar23", c.osdar23}});
   return m;
 }
 
@@ -91,6 +100,13 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
         "Tr", kittiTr(referenceCameraPose(scenario.json()), Eigen::Isometry3d::Identity())
                   .matrix()
                   .topRows<3>()));
+  // A LiDAR-only run: KITTI's readers (pykitti's odometry loader) read P0–P3 as well, so they
+  // are [I | 0]: camera 0's frame (the reference camera's axes at the body's reference point)
+  // with a unit focal length, as there is no image to project into.
+  if (has("Tr:") && !has("P0:"))
+    for (int n = 0; n < 4; ++n)
+      lines.push_back(
+          kittiCalibLine(fmt::format("P{}", n), Eigen::Matrix<double, 3, 4>::Identity()));
   const auto rank = [](const std::string& line) {
     return line.starts_with("P")    ? std::stoi(line.substr(1))
            : line.starts_with("Tr") ? 1 << 20
@@ -152,6 +168,7 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   const std::unique_ptr<Plan> plan = makePlan(scenario);
   SensorContext context =
       makeSensorContext(scenario, plan->trajectory(), &plan->route().route, &plan->layout());
+  context.cancel = options.cancel;
   // The environment, its scene stream and Embree's world exist only if a sensor needs them.
   std::shared_ptr<const EnvironmentStage> environment;
   std::unique_ptr<scene::SceneStream> stream;

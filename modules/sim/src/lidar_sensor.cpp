@@ -9,6 +9,7 @@
 
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/core/log.hpp"
 #include "trainsim/io/packed.hpp"
 #include "trainsim/io/pcd.hpp"
 #include "trainsim/lidar/lidar.hpp"
@@ -234,6 +235,22 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                          device.firing_period_s * 1e6,
                          static_cast<int>(std::floor(
                              1.0 / (device.firing_period_s * c.rotation_hz) * (1.0 + 1e-9))))});
+      // Each field has its range; their product is bounded too, so that a scan fits in memory
+      // (32 bytes a return slot) and in a run: 2^22 pulses is 8 × an OS1-64 at 2048 columns,
+      // 2^28 rays every preset with 1024 sub-rays a pulse (about two minutes a scan here).
+      constexpr double kMaxPulses = 1 << 22, kMaxRays = 1 << 28;
+      const double pulses = static_cast<double>(device.columns) * device.lasers.size();
+      if (pulses > kMaxPulses)
+        out.push_back({at(c.columns),
+                       fmt::format("gives {:.0f} pulses a scan ({} columns × {} lasers): at most "
+                                   "{:.0f}",
+                                   pulses, device.columns, device.lasers.size(), kMaxPulses)});
+      else if (pulses * c.sub_rays > kMaxRays)
+        out.push_back(
+            {at(c.sub_rays), fmt::format("gives {:.0f} rays a scan ({} columns × {} lasers × {} "
+                                         "sub-rays): at most {:.0f}",
+                                         pulses * c.sub_rays, device.columns, device.lasers.size(),
+                                         c.sub_rays, kMaxRays)});
     });
     return b;
   }();
@@ -371,6 +388,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
       : trajectory_(setup.context.trajectory),
         scene_(setup.context.scene),
         rays_(setup.context.rays),
+        cancel_(setup.context.cancel),
         instances_(setup.context.instances),
         name_(c.basics.name),
         period_(c.basics.period_ns),
@@ -384,6 +402,14 @@ class LidarSensor final : public SensorOf<LidarScan> {
       throw RuntimeError(
           fmt::format("{}: a LiDAR needs the scene (the run did not make it)", setup.path));
     T_body_sensor_ = bodyFromSensor(c.basics.mount.mount());
+    // One ray a pulse has one echo: dual returns need the beam's footprint sampled. Valid (the
+    // files are those of strongest), but not what was asked for; said once, when the run starts.
+    if (c.returns == ReturnMode::kDual && c.sub_rays == 1)
+      logWarn(
+          fmt::format("{}: returns is dual but sub_rays is 1: one ray a pulse has one echo, "
+                      "so every pulse gives one point, as strongest would; set sub_rays (16 "
+                      "or more) and beam_divergence_mrad for second echoes",
+                      setup.path));
   }
 
   std::string name() const override { return name_; }
@@ -448,7 +474,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
     const lidar::LidarFrame& frame = *reused;
     scanner_.scan(
         scene, [&](double t) { return poses.at(t); }, random_,
-        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())), *reused);
+        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())), *reused, cancel_);
 
     LidarScan out;
     out.rays = frame.rays;
@@ -518,6 +544,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   const Trajectory& trajectory_;
   scene::SceneStream* scene_;
   std::shared_ptr<lidar::RayWorld> rays_;
+  const std::atomic<bool>* cancel_ = nullptr;
   std::shared_ptr<InstanceTable> instances_;
   std::string name_;
   TimeNs period_;

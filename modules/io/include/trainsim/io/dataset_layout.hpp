@@ -107,6 +107,10 @@ struct Manifest {
   std::int64_t frames = 0;
   std::vector<ManifestSensor> sensors;
   std::vector<std::string> not_simulated;  ///< pipeline stages not built yet
+  /// The class table the labels use: per class its id, name, colour, whether it has instances,
+  /// and its nearest SemanticKITTI, RailSem19 and OSDaR23 names (classes.yaml has the same with
+  /// the point counts). Null when not known (a manifest written before it was added).
+  nlohmann::json classes;
 
   nlohmann::json toJson() const;
   /// Throws IoError naming `source` if the document is not a TrainSim manifest.

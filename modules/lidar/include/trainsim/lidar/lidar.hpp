@@ -1,6 +1,7 @@
 #pragma once
 // A rotating LiDAR's frame: rays in scan order from the pose at each firing, cast into the
 // scene, with range noise, dropout and Lambertian-Beckmann intensity, in KITTI point order.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -127,9 +128,11 @@ class Scanner {
   LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                   std::uint64_t frame) const;
   /// The same into `out`, reusing its memory: a caller that scans frame after frame keeps one
-  /// LidarFrame (a few MB) instead of allocating and initialising it every time.
+  /// LidarFrame (a few MB) instead of allocating and initialising it every time. Once `cancel`
+  /// (optional) is set, the columns not yet cast are skipped and Cancelled is thrown: a scan of
+  /// many sub-rays can take minutes, and Ctrl-C should not wait for it.
   void scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
-            std::uint64_t frame, LidarFrame& out) const;
+            std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel = nullptr) const;
   /// The rays scan() casts, in the same order (column by column, each column's lasers in
   /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
   /// rays.

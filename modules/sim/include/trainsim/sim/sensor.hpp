@@ -1,6 +1,7 @@
 #pragma once
 
 #include <any>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -111,6 +112,9 @@ struct SensorContext {
   /// Camera 0 → body: the frame of KITTI's Tr and poses.txt (the first camera's mount with
   /// KITTI's camera axes; without a camera, those axes at the body's reference point).
   Eigen::Isometry3d T_body_cam0 = Eigen::Isometry3d::Identity();
+  /// The run's cancel flag (optional), for sensors whose one reading can take long (a LiDAR
+  /// scan of many sub-rays) to poll within it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// What a sensor factory gets: the run's context, the sensor's own resolved section (e.g.
