@@ -549,6 +549,39 @@ TEST(Divergence, AThinWireIsHitAtTheRateItsFootprintCoveragePredicts) {
   EXPECT_NEAR(axis_hits * WireSweep::step() / (2.0 * WireSweep::kRadius), 1.0, 0.05);
 }
 
+// A flat ground at a grazing angle stretches each pulse's echo over metres of range (here up to
+// 30 m: 5 mrad beams 1° to 5° below the horizon, 2 m above the ground), far more than the echo
+// separation: it is one surface, so one echo, never a second one "behind" it; its range lies
+// within the footprint's nearest and farthest ground.
+TEST(Divergence, AFlatGroundAtAGrazingAngleIsOneEchoNotTwo) {
+  const Eigen::Vector3d O(-4.0e5, 7.0e5, 12.0);
+  constexpr double kHeight = 2.0, kDivergence = 0.005, kTop = -1.0, kBottom = -5.0;
+  const auto tile = makeTile(
+      O, {square({0, 0, -kHeight}, {0, 0, 1}, 400.0, scene::cls::kTerrain, scene::mat::kGrass)});
+  lidar::LidarParams p;
+  p.pattern = lidar::uniformPattern(33, kTop, kBottom, 64, 10.0);
+  p.pattern.range_min_m = 0.5;
+  p.pattern.range_max_m = 300.0;
+  p.range_sigma_m = 0.0;
+  p.motion_distortion = false;
+  p.sub_rays = 64;
+  p.divergence_rad = kDivergence;
+  p.returns = lidar::LidarParams::Returns::kDual;
+  lidar::RayWorld world;
+  const lidar::Scanner scanner(p);
+  const auto frame = scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(3, "ground"), 0);
+  ASSERT_EQ(frame.points.size(), static_cast<std::size_t>(33 * 64)) << "one point a pulse";
+  for (const lidar::LidarPoint& pt : frame.points) {
+    ASSERT_EQ(pt.return_index, 0);
+    // The point lies on its beam's axis, so its elevation is the axis's.
+    const double elevation = std::asin(static_cast<double>(pt.xyz.z()) / pt.range_m);
+    const double nearest = kHeight / std::sin(-elevation + 0.5 * kDivergence);
+    const double farthest = kHeight / std::sin(-elevation - 0.5 * kDivergence);
+    EXPECT_GE(pt.range_m, nearest * (1.0 - 1e-5));
+    EXPECT_LE(pt.range_m, farthest * (1.0 + 1e-5));
+  }
+}
+
 TEST(Divergence, DualReturnsReportTheWireAndTheWallBehindIt) {
   const WireSweep sweep(true);
   using Returns = lidar::LidarParams::Returns;

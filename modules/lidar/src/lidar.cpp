@@ -75,14 +75,30 @@ std::size_t orderRing(const float* keys, std::size_t columns, std::size_t return
   return n;
 }
 
-// One sub-ray's hit and its backscatter.
+// One sub-ray's hit, the sub-ray's unit direction, and its backscatter.
 struct SubHit {
   const RayHit* hit;
+  Eigen::Vector3f direction;
   double range;
   double rho;
 };
 
-// One echo of a pulse: sub-ray hits closer than the echo separation to the next in range.
+// Whether `b` hit the surface `a` hit, as far as the pulse can tell: the plane through a's hit
+// with a's normal meets b's ray (from the same origin) within `separation` of where b hit.
+// Exact for a plane at any incidence; a gently curved surface (the ground) passes within the
+// separation over a footprint's width.
+bool onOneSurface(const SubHit& a, const SubHit& b, double separation) {
+  const Eigen::Vector3d n = a.hit->normal.cast<double>();
+  const double across = n.dot(b.direction.cast<double>());
+  if (std::abs(across) < 1e-9)
+    return false;
+  const double predicted = a.range * n.dot(a.direction.cast<double>()) / across;
+  return std::abs(predicted - b.range) <= separation;
+}
+
+// One echo of a pulse: sub-ray hits that follow each other in range closer than the echo
+// separation, or further apart on one surface (a plane at a grazing angle stretches its echo
+// over more range than the separation: one broad peak in a real receiver's waveform, not two).
 struct Echo {
   double range = 0.0;             // the backscatter-weighted mean of its sub-rays' ranges
   double reflectivity = 0.0;      // Σ w ρ over its sub-rays: what the intensity reports
@@ -91,7 +107,10 @@ struct Echo {
 };
 
 // Groups a pulse's sub-ray hits into echoes, nearest first; `weight` is each sub-ray's share
-// of the pulse's energy. One hit gives one echo at exactly its range and reflectivity.
+// of the pulse's energy. One hit gives one echo at exactly its range and reflectivity. A hit
+// starts a new echo when it lies more than the separation beyond the previous one and neither
+// lies on the other's surface (a wire before a wall, a platform's edge before the track bed, a
+// crest before the ground behind it).
 void echoesOf(std::vector<SubHit>& sub, double separation, double weight, std::vector<Echo>& out) {
   // Insertion sort: stable, no allocation (a pulse has few sub-rays, most often one).
   for (std::size_t i = 1; i < sub.size(); ++i)
@@ -100,7 +119,9 @@ void echoesOf(std::vector<SubHit>& sub, double separation, double weight, std::v
   out.clear();
   double near = 0.0, sum_offset = 0.0, best = -1.0;
   for (std::size_t i = 0; i < sub.size(); ++i) {
-    if (i == 0 || sub[i].range - sub[i - 1].range > separation) {
+    if (i == 0 || (sub[i].range - sub[i - 1].range > separation &&
+                   !onOneSurface(sub[i - 1], sub[i], separation) &&
+                   !onOneSurface(sub[i], sub[i - 1], separation))) {
       out.emplace_back();
       near = sub[i].range;
       sum_offset = 0.0;
@@ -485,7 +506,8 @@ void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
           continue;
         const double cos_theta =
             std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
-        b.sub.push_back({&h, h.range, backscatter[h.material](cos_theta)});
+        b.sub.push_back(
+            {&h, rays[base + k].direction, h.range, backscatter[h.material](cos_theta)});
       }
       std::size_t chosen = 0;
       if (!b.sub.empty() && kept[l] != 0) {

@@ -194,7 +194,9 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
              "sensors-reference.md 1)")
         .range(0, 50);
     b.number("echo_separation_m", &C::echo_separation_m, kM,
-             "Sub-ray hits further apart in range than this are separate echoes")
+             "Sub-ray hits further apart in range than this are separate echoes, unless they "
+             "lie on one surface (the plane through one hit with its normal meets the other's "
+             "ray within this): ground or a wall at a grazing angle is one stretched echo")
         .range(0.01, 100);
     b.choice("returns", &C::returns,
              "Echoes a pulse reports: strongest (received power), last, or dual (both; one "
