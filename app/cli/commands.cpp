@@ -56,7 +56,8 @@ struct PlanArgs : CommonOptions {
 };
 
 struct EvaluateArgs {
-  std::string gt, est, calib;
+  std::string gt, est, calib, times;
+  double speed_bin_m_s = evaluation::EvaluateOptions{}.speed_bin_m_s;
   std::vector<double> lengths = evaluation::EvaluateOptions{}.lengths_m;
   std::size_t step = evaluation::EvaluateOptions{}.step;
   double eod_from_m = evaluation::EvaluateOptions{}.eod_from_m;
@@ -190,6 +191,11 @@ void runEvaluate(const EvaluateArgs& args) {
   options.step = args.step;
   options.eod_from_m = args.eod_from_m;
   options.tr = tr ? &*tr : nullptr;
+  std::vector<double> times;
+  if (!args.times.empty())
+    times = evaluation::readKittiTimes(args.times);
+  options.times = times;
+  options.speed_bin_m_s = args.speed_bin_m_s;
   const evaluation::Report report = evaluation::evaluate(gt, est, options);
   std::cout << (args.json ? evaluation::json(report) : evaluation::markdown(report));
 }
@@ -333,6 +339,12 @@ void addCommands(CLI::App& app) {
   evaluate_cmd->add_option("--calib", evaluate.calib,
                            "calib.txt: TEX, TEY and EOD in the velodyne's axes (its Tr), not "
                            "camera 0's renamed");
+  evaluate_cmd->add_option("--times", evaluate.times,
+                           "times.txt: the segment errors by speed as well (the ground truth's "
+                           "path over the time it took)");
+  evaluate_cmd
+      ->add_option("--speed-bin", evaluate.speed_bin_m_s, "Width of the speed table's bins (m/s)")
+      ->capture_default_str();
   evaluate_cmd
       ->add_option("--lengths", evaluate.lengths,
                    "Segment lengths (m), comma-separated; the devkit's by default")

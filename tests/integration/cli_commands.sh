@@ -154,6 +154,13 @@ PY
 expect_exit 0 "evaluate (Markdown)" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --lengths 100,250
 expect_contains "$WORK/out" "| 250 |" "evaluate --lengths"
 expect_contains "$WORK/out" "| TEY (m) | 699 |" "evaluate reports TEY"
+# With times.txt (0.1 s a frame: 20 m/s), the same segments by speed: all in the 20-25 m/s bin.
+python3 -c "print('\n'.join('%e' % (0.1 * k) for k in range(700)))" > "$WORK/times.txt"
+expect_exit 0 "evaluate --times" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --lengths 100,250 --times "$WORK/times.txt"
+expect_contains "$WORK/out" "| 20–25 | 72–90 |" "evaluate --times: the segments by speed"
+head -n 5 "$WORK/times.txt" > "$WORK/times5.txt"
+expect_exit 2 "evaluate: times that do not pair" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/est.txt" --times "$WORK/times5.txt"
+expect_contains "$WORK/err" "--times holds 5 times and --gt 700 poses" "the times' count is named"
 head -n 699 "$WORK/est.txt" > "$WORK/short.txt"
 expect_exit 2 "evaluate: sequences that do not pair" -- "$TRAINSIM" evaluate --gt "$WORK/gt.txt" --est "$WORK/short.txt"
 expect_contains "$WORK/err" "--est holds 699 poses and --gt 700" "the two counts are named"

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 
 #include <nlohmann/json.hpp>
@@ -151,6 +152,60 @@ TEST(Odometry, CalibTrGivesTheVelodynesAxes) {
   EXPECT_LT(camera.tey_m[0], delta);
 }
 
+// The segment errors by speed: frames 0.1 s apart for the first 400 m (10 m/s), then 0.04 s
+// (25 m/s), with a scale error s throughout. Each segment of length L has the error
+// s (L + 1) / L (as above) and the speed of its path over its time, worked out here: the table
+// holds each bin's segments and their mean, and nothing of a speed no segment has.
+TEST(Odometry, TheSegmentsBySpeedFollowTheTimes) {
+  const double s = 0.02;
+  const Poses gt = straight();
+  Poses est = gt;
+  for (Pose& T : est)
+    T.translation() *= 1.0 + s;
+  std::vector<double> times(kFrames, 0.0);
+  for (std::size_t k = 1; k < kFrames; ++k)
+    times[k] = times[k - 1] + (k <= 400 ? 0.1 : 0.04);
+  EvaluateOptions options;
+  options.times = times;
+  options.speed_bin_m_s = 5.0;
+  const Report r = evaluate(gt, est, options);
+  std::map<int, std::pair<std::size_t, double>> want;  // bin → segments, sum of errors (%)
+  for (const double length : options.lengths_m)
+    for (std::size_t first = 0; first + static_cast<std::size_t>(length) + 1 < kFrames;
+         first += 10) {
+      const std::size_t last = first + static_cast<std::size_t>(length) + 1;
+      const double speed = static_cast<double>(last - first) / (times[last] - times[first]);
+      // A speed on a bin's edge but for rounding counts in the bin above (10 m/s is 10-15).
+      auto& [count, sum] = want[static_cast<int>(std::floor(speed / 5.0 + 1e-9))];
+      ++count;
+      sum += 100.0 * s * (length + 1.0) / length;
+    }
+  ASSERT_EQ(r.speeds.size(), want.size());
+  std::size_t total = 0;
+  for (const Report::Speed& bin : r.speeds) {
+    const int b = static_cast<int>(bin.from_m_s / 5.0);
+    ASSERT_TRUE(want.count(b)) << bin.from_m_s;
+    EXPECT_EQ(bin.to_m_s, bin.from_m_s + 5.0);
+    EXPECT_EQ(bin.errors.segments, want[b].first) << bin.from_m_s;
+    EXPECT_NEAR(bin.errors.translation_percent, want[b].second / static_cast<double>(want[b].first),
+                1e-12);
+    EXPECT_EQ(bin.errors.rotation_deg_per_m, 0.0);
+    total += bin.errors.segments;
+  }
+  EXPECT_EQ(total, r.all.segments);
+  EXPECT_EQ(r.speeds.front().from_m_s, 10.0);  // the slowest segments: 10 m/s exactly
+  EXPECT_EQ(r.speeds.back().from_m_s, 25.0);   // the fastest: 25 m/s exactly
+  const nlohmann::json j = nlohmann::json::parse(json(r));
+  EXPECT_EQ(j["kitti"]["speeds"].size(), r.speeds.size());
+  EXPECT_EQ(j["kitti"]["speeds"][0]["segments"], r.speeds[0].errors.segments);
+  EXPECT_NE(markdown(r).find("| 25–30 | 90–108 |"), std::string::npos) << markdown(r);
+  // Without times there is no speed table; times that do not pair with the poses are refused.
+  EXPECT_FALSE(nlohmann::json::parse(json(evaluate(gt, est))).at("kitti").contains("speeds"));
+  times.pop_back();
+  options.times = times;
+  EXPECT_THROW(evaluate(gt, est, options), ConfigError);
+}
+
 std::filesystem::path write(const std::string& name, const std::string& text) {
   const auto path =
       std::filesystem::temp_directory_path() / fmt::format("trainsim_eval_{}_{}", ::getpid(), name);
@@ -191,6 +246,30 @@ TEST(KittiPoses, ReadsTheFormatAndNamesTheLineOfAnythingElse) {
   EXPECT_NE(messageOf(write("empty", "")).find("no pose"), std::string::npos);
   EXPECT_NE(messageOf("/nonexistent/poses.txt").find("No such file or directory"),
             std::string::npos);
+}
+
+TEST(KittiTimes, ReadsRisingTimesAndNamesTheLineOfAnythingElse) {
+  const auto message = [](const std::string& name, const std::string& text) {
+    const auto path = write(name, text);
+    try {
+      readKittiTimes(path);
+    } catch (const ConfigError& e) {
+      std::filesystem::remove(path);
+      return std::string(e.what());
+    }
+    std::filesystem::remove(path);
+    return std::string("no error");
+  };
+  const auto good = write("times", "0.000000e+00\n1.000000e-01\n0.2\n\n");
+  EXPECT_EQ(readKittiTimes(good), (std::vector<double>{0.0, 0.1, 0.2}));
+  std::filesystem::remove(good);
+  EXPECT_NE(message("same", "0\n0.1\n0.1\n").find(":3: 0.1 s does not come after"),
+            std::string::npos);
+  EXPECT_NE(message("two", "0\n0.1 0.2\n").find(":2: 2 numbers where a time has one"),
+            std::string::npos);
+  EXPECT_NE(message("nan", "0\nnan\n").find(":2: 'nan' is not a finite number"), std::string::npos);
+  EXPECT_NE(message("gap", "0\n\n0.1\n").find(":2: an empty line"), std::string::npos);
+  EXPECT_NE(message("empty", "").find("no time"), std::string::npos);
 }
 
 // Seeded mutations of a valid poses file (bytes replaced, inserted, deleted; lines cut or

@@ -162,6 +162,35 @@ Poses readKittiPoses(const std::filesystem::path& path) {
   return poses;
 }
 
+std::vector<double> readKittiTimes(const std::filesystem::path& path) {
+  const std::string text = readInput(path);
+  std::vector<double> times;
+  std::size_t blank = 0;
+  forEachLine(text, [&](std::size_t line_number, std::string_view line) {
+    if (isBlank(line)) {
+      blank = blank == 0 ? line_number : blank;
+      return;
+    }
+    if (blank != 0)
+      throw ConfigError(fmt::format("{}:{}: an empty line inside the file", path.string(), blank));
+    std::string bad;
+    const auto numbers = numbersOf(line, bad);
+    if (!numbers)
+      throw ConfigError(fmt::format("{}:{}: '{}' is not a finite number a double holds",
+                                    path.string(), line_number, messageValue(bad)));
+    if (numbers->size() != 1)
+      throw ConfigError(fmt::format("{}:{}: {} numbers where a time has one (seconds)",
+                                    path.string(), line_number, numbers->size()));
+    if (!times.empty() && !(numbers->front() > times.back()))
+      throw ConfigError(fmt::format("{}:{}: {} s does not come after the line before's {} s",
+                                    path.string(), line_number, numbers->front(), times.back()));
+    times.push_back(numbers->front());
+  });
+  if (times.empty())
+    throw ConfigError(fmt::format("{}: no time in the file", path.string()));
+  return times;
+}
+
 Pose readKittiTr(const std::filesystem::path& calib) {
   const std::string text = readInput(calib);
   std::optional<Pose> tr;
@@ -202,9 +231,10 @@ Poses vehicleAxes(const Poses& camera_poses, const Pose* tr) {
 }
 
 std::vector<Segment> kittiSegments(const Poses& gt, const Poses& est,
-                                   std::span<const double> lengths_m, std::size_t step) {
-  if (gt.size() != est.size())
-    throw ConfigError("kittiSegments: the two trajectories differ in length");
+                                   std::span<const double> lengths_m, std::size_t step,
+                                   std::span<const double> times) {
+  if (gt.size() != est.size() || (!times.empty() && times.size() != gt.size()))
+    throw ConfigError("kittiSegments: the two trajectories (or the times) differ in length");
   const std::vector<double> dist = pathLengths(gt);
   std::vector<Segment> out;
   for (std::size_t first = 0; first < gt.size(); first += std::max<std::size_t>(step, 1))
@@ -219,8 +249,10 @@ std::vector<Segment> kittiSegments(const Poses& gt, const Poses& est,
       const Pose delta_gt = gt[first].inverse() * gt[last];
       const Pose delta_est = est[first].inverse() * est[last];
       const Pose error = delta_est.inverse() * delta_gt;
-      out.push_back({first, last, length, error.translation().norm() / length,
-                     angleOf(error.linear()) / length});
+      out.push_back(
+          {first, last, length, error.translation().norm() / length,
+           angleOf(error.linear()) / length,
+           times.empty() ? 0.0 : (dist[last] - dist[first]) / (times[last] - times[first])});
     }
   return out;
 }
@@ -275,6 +307,11 @@ Report evaluate(const Poses& gt, const Poses& est, const EvaluateOptions& option
     throw ConfigError("--step: must be at least 1 frame");
   if (!(options.eod_from_m >= 0.0))
     throw ConfigError("--eod-from: must be a distance of 0 m or more");
+  if (!options.times.empty() && options.times.size() != gt.size())
+    throw ConfigError(fmt::format("--times holds {} times and --gt {} poses: one line per frame",
+                                  options.times.size(), gt.size()));
+  if (!(options.speed_bin_m_s > 0.0) || !std::isfinite(options.speed_bin_m_s))
+    throw ConfigError("--speed-bin: must be a positive speed (m/s)");
   if (options.lengths_m.empty())
     throw ConfigError("--lengths: at least one segment length");
   for (std::size_t i = 0; i < options.lengths_m.size(); ++i) {
@@ -294,13 +331,15 @@ Report evaluate(const Poses& gt, const Poses& est, const EvaluateOptions& option
   report.step = options.step;
   report.eod_from_m = options.eod_from_m;
   report.velodyne_axes = options.tr != nullptr;
-  const std::vector<Segment> segments = kittiSegments(gt, est, options.lengths_m, options.step);
-  const auto summarise = [&](double length) {
+  const std::vector<Segment> segments =
+      kittiSegments(gt, est, options.lengths_m, options.step, options.times);
+  // Every segment `take` takes, averaged as the devkit does (per segment, not per metre).
+  const auto summarise = [&](double length, const auto& take) {
     Report::Length l;
     l.length_m = length;
     double t = 0.0, r = 0.0;
     for (const Segment& s : segments)
-      if (length == 0.0 || s.length_m == length) {
+      if (take(s)) {
         t += s.translation;
         r += s.rotation_rad;
         ++l.segments;
@@ -312,8 +351,27 @@ Report evaluate(const Poses& gt, const Poses& est, const EvaluateOptions& option
     return l;
   };
   for (const double length : options.lengths_m)
-    report.lengths.push_back(summarise(length));
-  report.all = summarise(0.0);
+    report.lengths.push_back(
+        summarise(length, [&](const Segment& s) { return s.length_m == length; }));
+  report.all = summarise(0.0, [](const Segment&) { return true; });
+  if (!options.times.empty()) {
+    report.speed_bin_m_s = options.speed_bin_m_s;
+    // A speed on a bin's edge but for the rounding of the times' digits (10 m/s from frames
+    // 0.1 s apart) counts in the bin above the edge, as its true value does.
+    const auto binOf = [&](const Segment& s) {
+      return static_cast<std::size_t>(std::floor(s.speed_m_s / options.speed_bin_m_s + 1e-9));
+    };
+    std::size_t bins = 0;
+    for (const Segment& s : segments)
+      bins = std::max(bins, binOf(s) + 1);
+    for (std::size_t b = 0; b < bins; ++b) {
+      const double from = static_cast<double>(b) * options.speed_bin_m_s;
+      const double to = from + options.speed_bin_m_s;
+      const Report::Length errors = summarise(0.0, [&](const Segment& s) { return binOf(s) == b; });
+      if (errors.segments > 0)
+        report.speeds.push_back({from, to, errors});
+    }
+  }
 
   const FrameErrors frame =
       frameErrors(vehicleAxes(gt, options.tr), vehicleAxes(est, options.tr), options.eod_from_m);
@@ -347,6 +405,20 @@ std::string markdown(const Report& r) {
     out +=
         "\nLengths with fewer than 3 segments are left out of the devkit's plots (not of its "
         "summary, the row 'all').\n";
+  if (r.speed_bin_m_s > 0.0) {
+    out += fmt::format(
+        "\nThe same segments by speed (the ground truth's path over its time in times.txt; "
+        "bins of {:g} m/s)\n\n"
+        "| speed (m/s) | speed (km/h) | segments | translation (%) | rotation (deg/100 m) |\n"
+        "|---|---|---|---|---|\n",
+        r.speed_bin_m_s);
+    for (const Report::Speed& s : r.speeds)
+      out += fmt::format("| {:g}–{:g} | {:.0f}–{:.0f} | {} | {:.4f} | {:.4f} |\n", s.from_m_s,
+                         s.to_m_s, 3.6 * s.from_m_s, 3.6 * s.to_m_s, s.errors.segments,
+                         s.errors.translation_percent, 100.0 * s.errors.rotation_deg_per_m);
+    if (r.speeds.empty())
+      out += "| – | – | 0 | – | – |\n";
+  }
   out += fmt::format(
       "\nFrame-to-frame translation errors TEX and TEY and error over distance EOD (the TrainSim "
       "paper's metrics, x forward and y left: {}; EOD from {:g} m of path)\n\n"
@@ -399,6 +471,15 @@ std::string json(const Report& r) {
   for (const Report::Length& l : r.lengths)
     j["kitti"]["lengths"].push_back(length(l));
   j["kitti"]["all"] = length(r.all);
+  if (r.speed_bin_m_s > 0.0) {
+    j["kitti"]["speed_bin_m_s"] = r.speed_bin_m_s;
+    j["kitti"]["speeds"] = nlohmann::ordered_json::array();
+    for (const Report::Speed& s : r.speeds) {
+      nlohmann::ordered_json bin{{"from_m_s", s.from_m_s}, {"to_m_s", s.to_m_s}};
+      bin.update(length(s.errors));
+      j["kitti"]["speeds"].push_back(std::move(bin));
+    }
+  }
   j["paper"]["axes"] = r.velodyne_axes ? "velodyne" : "camera";
   j["paper"]["tex_m"] = stats(r.tex_m);
   j["paper"]["tey_m"] = stats(r.tey_m);

@@ -25,6 +25,10 @@ using Poses = std::vector<Pose>;
 /// line before the last, no pose at all, a file over 1 GiB.
 Poses readKittiPoses(const std::filesystem::path& path);
 
+/// A KITTI times.txt: one time in seconds per line, rising from line to line. ConfigError
+/// naming the file and line for anything else (the same rules as readKittiPoses).
+std::vector<double> readKittiTimes(const std::filesystem::path& path);
+
 /// KITTI's `Tr` (velodyne → camera 0: p_cam = Tr · p_velo) from a calib.txt. ConfigError naming
 /// the file when it has no `Tr:` line of 12 numbers with a rotation in it.
 Pose readKittiTr(const std::filesystem::path& calib);
@@ -44,12 +48,15 @@ struct Segment {
   double length_m = 0.0;
   double translation = 0.0;   ///< |t(E)| / length, E = (Δestimate)⁻¹ · Δground truth
   double rotation_rad = 0.0;  ///< angle(E) / length, rad per metre
+  double speed_m_s = 0.0;     ///< the ground truth's path over the time it took (with times)
 };
 
 /// The devkit's segments: starts every `step` frames, every length of `lengths_m` that the
-/// sequence is long enough for. `gt` and `est` must have the same size.
+/// sequence is long enough for. `gt` and `est` must have the same size, and `times` (seconds
+/// per frame) too when given: then each segment has its speed.
 std::vector<Segment> kittiSegments(const Poses& gt, const Poses& est,
-                                   std::span<const double> lengths_m, std::size_t step = 10);
+                                   std::span<const double> lengths_m, std::size_t step = 10,
+                                   std::span<const double> times = {});
 
 /// Count, mean, standard deviation (population) and largest value.
 struct Stats {
@@ -83,6 +90,15 @@ struct Report {
   };
   std::vector<Length> lengths;  ///< per segment length
   Length all;                   ///< over every segment (length_m = 0): the devkit's summary
+  /// With times: the segments of every length by their speed, in bins of `speed_bin_m_s` from
+  /// 0 (only bins that hold a segment). The devkit plots errors against speed too, taking 10 Hz
+  /// frames; a train's speeds and frame times are read from times.txt instead.
+  struct Speed {
+    double from_m_s = 0.0, to_m_s = 0.0;
+    Length errors;  ///< length_m = 0
+  };
+  std::vector<Speed> speeds;
+  double speed_bin_m_s = 0.0;  ///< 0: no times, no speed table
   Stats tex_m, tey_m, eod_percent;
   double eod_from_m = 10.0;
   bool velodyne_axes = false;  ///< TEX/TEY/EOD in the velodyne's axes (a calib.txt was given)
@@ -93,11 +109,14 @@ struct EvaluateOptions {
   std::vector<double> lengths_m = {100, 200, 300, 400, 500, 600, 700, 800};  // the devkit's
   std::size_t step = 10;
   double eod_from_m = 10.0;
-  const Pose* tr = nullptr;  ///< a calib.txt's Tr, or none
+  const Pose* tr = nullptr;       ///< a calib.txt's Tr, or none
+  std::span<const double> times;  ///< a times.txt (seconds per frame), or none
+  double speed_bin_m_s = 5.0;     ///< the speed table's bins (18 km/h)
 };
 
 /// The report of `est` against `gt` (KITTI camera-0 poses, one per frame). ConfigError when
-/// they differ in length, hold fewer than two poses, or an option is out of its range.
+/// they (or the times) differ in length, hold fewer than two poses, or an option is out of its
+/// range.
 Report evaluate(const Poses& gt, const Poses& est, const EvaluateOptions& options = {});
 
 /// The report as Markdown tables, and as one JSON object.
