@@ -268,7 +268,7 @@ TEST(KittiTimes, ReadsRisingTimesAndNamesTheLineOfAnythingElse) {
   EXPECT_NE(message("two", "0\n0.1 0.2\n").find(":2: 2 numbers where a time has one"),
             std::string::npos);
   EXPECT_NE(message("nan", "0\nnan\n").find(":2: 'nan' is not a finite number"), std::string::npos);
-  EXPECT_NE(message("gap", "0\n\n0.1\n").find(":2: an empty line"), std::string::npos);
+  EXPECT_NE(message("gap", "0\n\n0.1\n").find(":2: empty line among the times"), std::string::npos);
   EXPECT_NE(message("empty", "").find("no time"), std::string::npos);
 }
 

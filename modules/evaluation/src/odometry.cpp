@@ -134,60 +134,60 @@ std::vector<double> pathLengths(const Poses& poses) {
 
 }  // namespace
 
-Poses readKittiPoses(const std::filesystem::path& path) {
-  const std::string text = readInput(path);
-  Poses poses;
-  std::size_t blank = 0;
-  forEachLine(text, [&](std::size_t line_number, std::string_view line) {
-    if (isBlank(line)) {
-      blank = blank == 0 ? line_number : blank;
-      return;
-    }
-    if (blank != 0)
-      throw ConfigError(
-          fmt::format("{}:{}: empty line among the poses (a poses file has one line per frame)",
-                      path.string(), blank));
-    std::string bad, why;
-    const auto numbers = numbersOf(line, bad);
-    if (!numbers)
-      throw ConfigError(fmt::format("{}:{}: '{}' is not a finite number a double holds",
-                                    path.string(), line_number, messageValue(bad)));
-    const auto pose = poseOf(*numbers, why);
-    if (!pose)
-      throw ConfigError(fmt::format("{}:{}: {}", path.string(), line_number, why));
-    poses.push_back(*pose);
-  });
-  if (poses.empty())
-    throw ConfigError(fmt::format("{}: no pose in the file", path.string()));
-  return poses;
-}
+namespace {
 
-std::vector<double> readKittiTimes(const std::filesystem::path& path) {
+// The rows of a file of one record a line (poses.txt, times.txt): each line's numbers with its
+// number, to `visit`. Blank lines may end the file, not come between rows; a token that is not
+// a finite number is refused with the file and line named, and so is a file with no row.
+template <typename Visit>
+void forEachRow(const std::filesystem::path& path, std::string_view rows, const Visit& visit) {
   const std::string text = readInput(path);
-  std::vector<double> times;
-  std::size_t blank = 0;
+  std::size_t blank = 0, count = 0;
   forEachLine(text, [&](std::size_t line_number, std::string_view line) {
     if (isBlank(line)) {
       blank = blank == 0 ? line_number : blank;
       return;
     }
     if (blank != 0)
-      throw ConfigError(fmt::format("{}:{}: an empty line inside the file", path.string(), blank));
+      throw ConfigError(fmt::format("{}:{}: empty line among the {} (one line per frame)",
+                                    path.string(), blank, rows));
     std::string bad;
     const auto numbers = numbersOf(line, bad);
     if (!numbers)
       throw ConfigError(fmt::format("{}:{}: '{}' is not a finite number a double holds",
                                     path.string(), line_number, messageValue(bad)));
-    if (numbers->size() != 1)
-      throw ConfigError(fmt::format("{}:{}: {} numbers where a time has one (seconds)",
-                                    path.string(), line_number, numbers->size()));
-    if (!times.empty() && !(numbers->front() > times.back()))
-      throw ConfigError(fmt::format("{}:{}: {} s does not come after the line before's {} s",
-                                    path.string(), line_number, numbers->front(), times.back()));
-    times.push_back(numbers->front());
+    visit(line_number, *numbers);
+    ++count;
   });
-  if (times.empty())
-    throw ConfigError(fmt::format("{}: no time in the file", path.string()));
+  if (count == 0)
+    throw ConfigError(fmt::format("{}: no {} in the file", path.string(), rows));
+}
+
+}  // namespace
+
+Poses readKittiPoses(const std::filesystem::path& path) {
+  Poses poses;
+  forEachRow(path, "poses", [&](std::size_t line_number, const std::vector<double>& numbers) {
+    std::string why;
+    const auto pose = poseOf(numbers, why);
+    if (!pose)
+      throw ConfigError(fmt::format("{}:{}: {}", path.string(), line_number, why));
+    poses.push_back(*pose);
+  });
+  return poses;
+}
+
+std::vector<double> readKittiTimes(const std::filesystem::path& path) {
+  std::vector<double> times;
+  forEachRow(path, "times", [&](std::size_t line_number, const std::vector<double>& numbers) {
+    if (numbers.size() != 1)
+      throw ConfigError(fmt::format("{}:{}: {} numbers where a time has one (seconds)",
+                                    path.string(), line_number, numbers.size()));
+    if (!times.empty() && !(numbers.front() > times.back()))
+      throw ConfigError(fmt::format("{}:{}: {} s does not come after the line before's {} s",
+                                    path.string(), line_number, numbers.front(), times.back()));
+    times.push_back(numbers.front());
+  });
   return times;
 }
 
