@@ -21,7 +21,10 @@
 #include <QPushButton>
 #include <QVBoxLayout>
 #include <QtConcurrent/QtConcurrent>
+#include <atomic>
 
+#include "trainsim/core/cancel.hpp"
+#include "trainsim/core/error.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/terrain/railway.hpp"
@@ -42,6 +45,7 @@ struct Built {
   double radius_m = 0.0;
   double seconds = 0.0;
   QString error;
+  bool stopped = false;
 };
 
 }  // namespace
@@ -50,6 +54,7 @@ struct SceneView::Impl {
   std::shared_ptr<const PlanSnapshot> plan;
   std::uint64_t requests = 0;
   QFutureWatcher<Built> watcher;
+  std::shared_ptr<std::atomic<bool>> stop;  // the running build's (CancelScope's flag)
   Built built;
   app::SceneColour colour = app::SceneColour::kMaterial;
   long long triangles = 0;
@@ -62,6 +67,7 @@ struct SceneView::Impl {
   QDoubleSpinBox* radius = nullptr;
   QComboBox* colour_box = nullptr;
   QPushButton* show = nullptr;
+  QPushButton* stop_button = nullptr;
   QLabel* status = nullptr;
 };
 
@@ -93,7 +99,12 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Imp
   bar->addWidget(d_->radius);
   bar->addWidget(new QLabel("colours"));
   bar->addWidget(d_->colour_box);
+  d_->stop_button = new QPushButton("Stop");
+  d_->stop_button->setObjectName("sceneStop");
+  d_->stop_button->setToolTip("Stop building the scene");
+  d_->stop_button->setEnabled(false);
   bar->addWidget(d_->show);
+  bar->addWidget(d_->stop_button);
   bar->addStretch(1);
   layout->addLayout(bar);
   d_->widget = new QVTKOpenGLNativeWidget;
@@ -126,6 +137,7 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Imp
 
   connect(d_->show, &QPushButton::clicked, this,
           [this] { showScene(d_->chainage->value(), d_->radius->value()); });
+  connect(d_->stop_button, &QPushButton::clicked, this, &SceneView::stopBuild);
   connect(d_->colour_box, qOverload<int>(&QComboBox::currentIndexChanged), this,
           [this](int i) { setColour(static_cast<app::SceneColour>(std::max(0, i))); });
   connect(&d_->watcher, &QFutureWatcherBase::finished, this, [this] {
@@ -133,6 +145,11 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Imp
     if (b.request != d_->requests)
       return;  // a newer request is building
     d_->show->setEnabled(true);
+    d_->stop_button->setEnabled(false);
+    if (b.stopped) {
+      d_->status->setText("Building the scene stopped; Show builds it again.");
+      return;
+    }
     if (!b.error.isEmpty()) {
       d_->status->setText("The scene could not be built: " + b.error);
       return;
@@ -143,10 +160,20 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Imp
   });
 }
 
-// Waits for a build still running: it holds the plan's stages, not the view, but its result
-// would come back to a view that is gone.
+// Stops a build still running and waits for it: it holds the plan's stages, not the view, but
+// its result would come back to a view that is gone.
 SceneView::~SceneView() {
+  stopBuild();
   d_->watcher.waitForFinished();
+}
+
+void SceneView::stopBuild() {
+  if (d_->stop)
+    d_->stop->store(true);
+}
+
+bool SceneView::building() const {
+  return d_->watcher.isRunning();
 }
 
 void SceneView::setPlan(std::shared_ptr<const PlanSnapshot> plan) {
@@ -176,7 +203,10 @@ void SceneView::showScene(double chainage_m, double radius_m) {
   d_->chainage->setValue(chainage_m);
   d_->radius->setValue(radius_m);
   const std::uint64_t request = ++d_->requests;
+  stopBuild();  // a build still running is superseded
+  d_->stop = std::make_shared<std::atomic<bool>>(false);
   d_->show->setEnabled(false);
+  d_->stop_button->setEnabled(true);
   d_->status->setText(QString("Building the scene within %1 m of chainage %2 m …")
                           .arg(radius_m, 0, 'f', 0)
                           .arg(chainage_m, 0, 'f', 0));
@@ -184,39 +214,42 @@ void SceneView::showScene(double chainage_m, double radius_m) {
   // streams other tiles.
   std::shared_ptr<const sim::EnvironmentStage> stage =
       d_->built.generation == d_->plan->generation ? d_->built.stage : nullptr;
-  d_->watcher.setFuture(QtConcurrent::run(
-      [plan = d_->plan, stage, colour = d_->colour, request, chainage_m, radius_m]() mutable {
-        Built b;
-        b.request = request;
-        b.generation = plan->generation;
-        b.radius_m = radius_m;
-        b.colour = colour;
-        QElapsedTimer timer;
-        timer.start();
-        try {
-          if (!stage)
-            stage = sim::makeEnvironment(*plan->plan, *plan->scenario);
-          b.stage = stage;
-          const terrain::Railway& railway = *stage->railway;
-          const double length = railway.main().length();
-          const double at_m = std::clamp(chainage_m, 0.0, length);
-          const track::TrackFrame at = railway.frame(0, at_m);
-          const track::TrackFrame ahead = railway.frame(0, std::min(length, at_m + 0.4 * radius_m));
-          b.origin = at.position;
-          b.tiles = stage->environment->stream(16)->window(b.origin, radius_m).tiles;
-          // From behind and above, to the left, looking along the track as a driver would.
-          Eigen::Vector3d left(at.left.x(), at.left.y(), 0.0);
-          left.normalize();
-          b.eye = -0.15 * radius_m * at.tangent + 0.04 * radius_m * left +
-                  Eigen::Vector3d(0.0, 0.0, 0.06 * radius_m + 4.0);
-          b.focus = ahead.position - b.origin;
-          b.data = app::scenePolyData(b.tiles, b.origin, colour);  // here, not on the GUI thread
-        } catch (const std::exception& e) {
-          b.error = QString::fromUtf8(e.what());
-        }
-        b.seconds = timer.elapsed() / 1000.0;
-        return b;
-      }));
+  d_->watcher.setFuture(QtConcurrent::run([plan = d_->plan, stage, colour = d_->colour, request,
+                                           chainage_m, radius_m, stop = d_->stop]() mutable {
+    const CancelScope scope(stop.get());  // the plan stages and the tiles poll it
+    Built b;
+    b.request = request;
+    b.generation = plan->generation;
+    b.radius_m = radius_m;
+    b.colour = colour;
+    QElapsedTimer timer;
+    timer.start();
+    try {
+      if (!stage)
+        stage = sim::makeEnvironment(*plan->plan, *plan->scenario);
+      b.stage = stage;
+      const terrain::Railway& railway = *stage->railway;
+      const double length = railway.main().length();
+      const double at_m = std::clamp(chainage_m, 0.0, length);
+      const track::TrackFrame at = railway.frame(0, at_m);
+      const track::TrackFrame ahead = railway.frame(0, std::min(length, at_m + 0.4 * radius_m));
+      b.origin = at.position;
+      b.tiles = stage->environment->stream(16)->window(b.origin, radius_m).tiles;
+      // From behind and above, to the left, looking along the track as a driver would.
+      Eigen::Vector3d left(at.left.x(), at.left.y(), 0.0);
+      left.normalize();
+      b.eye = -0.15 * radius_m * at.tangent + 0.04 * radius_m * left +
+              Eigen::Vector3d(0.0, 0.0, 0.06 * radius_m + 4.0);
+      b.focus = ahead.position - b.origin;
+      b.data = app::scenePolyData(b.tiles, b.origin, colour);  // here, not on the GUI thread
+    } catch (const Cancelled&) {
+      b.stopped = true;
+    } catch (const std::exception& e) {
+      b.error = QString::fromUtf8(e.what());
+    }
+    b.seconds = timer.elapsed() / 1000.0;
+    return b;
+  }));
 }
 
 void SceneView::setColour(app::SceneColour colour) {

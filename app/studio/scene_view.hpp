@@ -25,8 +25,12 @@ class SceneView : public QWidget {
   /// The plan to build scenes from (the one shown stays until the next Show).
   void setPlan(std::shared_ptr<const PlanSnapshot> plan);
   /// Builds the scene within `radius_m` of main chainage `chainage_m` of the current plan;
-  /// sceneShown() when it is drawn. A newer request replaces one still building.
+  /// sceneShown() when it is drawn. A newer request replaces one still building, which stops.
   void showScene(double chainage_m, double radius_m);
+  /// Stops the build still running (Stop): within a tile's or a plan stage's time, it ends
+  /// with "stopped" in the status line and the scene shown before stays.
+  void stopBuild();
+  bool building() const;
   void setColour(app::SceneColour colour);
 
   int tileCount() const;

@@ -545,6 +545,17 @@ class StudioGuiTest : public QObject {
     QVERIFY2(view->status().contains("the plan changed"), qPrintable(view->status()));
     w.document()->undoStack()->undo();
     QVERIFY(planned.wait(60000));
+    // A build of the new plan (its environment and 2 km of tiles: seconds) stopped at once:
+    // it ends without drawing, says so, and the scene shown before stays.
+    view->showScene(3000.0, 2000.0);
+    auto* stop = view->findChild<QPushButton*>("sceneStop");
+    QVERIFY(stop && stop->isEnabled());
+    QTest::mouseClick(stop, Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(!view->building(), 60000);
+    QTest::qWait(100);  // the finished signal's handler runs on the event loop
+    QVERIFY2(view->status().contains("stopped"), qPrintable(view->status()));
+    QVERIFY(!stop->isEnabled());
+    QCOMPARE(view->triangleCount(), k);
   }
 
   void selectingATimeMarksTheTrain() {
