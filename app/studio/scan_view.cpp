@@ -310,7 +310,8 @@ bool ScanView::setDataset(const QString& root) {
   d_->calib.clear();
   d_->overlay_problem.clear();
   if (!d_->lidars.isEmpty() && !d_->cameras.isEmpty()) {
-    const std::string calib = sequence.filePath("calib.txt").toStdString();
+    const std::string calib =
+        sequence.filePath(QString::fromUtf8(io::DatasetLayout::kCalib)).toStdString();
     try {
       d_->calib = io::parseKittiCalib(io::readFile(calib), calib);
     } catch (const std::exception& e) {
