@@ -128,12 +128,44 @@ cat >"$WORK/turned.json" <<'JSON'
  "dataset": {"frame_period_ns": 1000000000},
  "sensors": {"cameras": [{"width": 64, "height": 48, "period_ns": 1000000000},
    {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "y_m": -0.5, "z_m": 3.2}},
-   {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "z_m": 3.2, "yaw_deg": 90}}]}}
+   {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "z_m": 3.2, "yaw_deg": 90}},
+   {"width": 64, "height": 48, "period_ns": 1000000000, "mount": {"x_m": 10.5, "z_m": 0.4, "pitch_deg": -70}}]}}
 JSON
 expect_exit 0 "generate with a turned camera" -- "$TRAINSIM" generate "$WORK/turned.json" --out "$WORK/turned" --progress none
 expect_contains "$WORK/err" "sensors.cameras[2]: the camera is turned against camera 0, so calib.txt's P4 is K [R | t]" "the turned camera's P is flagged"
 grep -q "sensors.cameras\[1\]: the camera is turned" "$WORK/err" && fail "a camera turned as camera 0 was flagged" ||
   pass "a camera turned as camera 0 is not flagged"
+# Without a LiDAR, classes.yaml's content is the first camera's semantic pixels, class by class
+# (semantic-kitti-api's trainers weigh classes by it; all 0 would divide by zero).
+python3 - "$WORK/turned" <<'PY' && pass "camera-only content: the semantic pixels' shares" || fail "camera-only content"
+import collections, os, sys
+sys.path.insert(0, os.environ["TESTS_DIR"])
+from kitti_read import read_png
+root = sys.argv[1]
+counts = collections.Counter()
+folder = os.path.join(root, "sequences", "00", "semantic_2")
+for name in os.listdir(folder):
+    _, _, _, rows = read_png(os.path.join(folder, name))
+    for row in rows:
+        counts.update(row)
+total = sum(counts.values())
+lines = open(os.path.join(root, "classes.yaml")).read().split("\ncontent:")[1].split("\n")
+assert "first camera's semantic pixels" in lines[0], lines[0]
+content = {}
+for line in lines[1:]:
+    if not line.startswith("  "):
+        break
+    k, v = line.split(":")
+    content[int(k)] = float(v)
+assert abs(sum(content.values()) - 1) < 1e-6
+for k, v in content.items():
+    assert abs(v - counts.get(k, 0) / total) < 1e-8, (k, v, counts.get(k, 0) / total)
+PY
+# A camera low down looking steeply at the track (an inspection camera) loses the track nearer
+# than near_m: the run says so; the windscreen cameras are not warned about.
+expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top plane from 0.35 m along its axis, nearer than near_m" "a near plane cutting the track is flagged"
+grep -q "cameras\[[012]\]: the camera sees the rail-top plane" "$WORK/err" && fail "a windscreen camera was flagged for its near plane" ||
+  pass "windscreen cameras are not flagged for their near plane"
 # Dual returns with one ray a pulse have nothing to pair: the run says so (and not for a LiDAR
 # whose pulses have sub-rays). Without a camera, calib.txt still has P0-P3 for pykitti.
 cat >"$WORK/dual.json" <<'JSON'

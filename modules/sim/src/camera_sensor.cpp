@@ -142,7 +142,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
     b.boolean("semantic", &C::semantic, "Write semantic_N/*.png: uint8 class id per pixel");
     b.boolean("semantic_preview", &C::semantic_preview,
               "Also write semantic_rgb_N/*.png: the semantic image in the classes' colours "
-              "(classes.json), to look at");
+              "(the dataset's classes.yaml color_map, from resources/classes.json), to look "
+              "at");
     b.boolean("instance", &C::instance,
               "Write instance_N/*.png: uint16 instance id per pixel, the id the LiDAR labels use "
               "(instances.csv), 0 for stuff");
@@ -172,11 +173,14 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
     b.number("f_number", &C::f_number, units::kNone, "Aperture, the f-number N").range(0.5, 64);
     b.number("iso", &C::iso, units::kNone, "Sensitivity, ISO").range(10, 409600);
     b.number("read_noise_dn", &C::read_noise_dn, units::kNone,
-             "Sensor noise: Gaussian read noise, standard deviation in 8-bit steps; 0: none")
+             "Sensor noise: Gaussian read noise, standard deviation in steps of 1/255 of linear "
+             "light, before the sRGB encoding (in the PNG's 8-bit steps that is up to 13 times "
+             "as much near black, less in the highlights); 0: none")
         .range(0, 64);
     b.number("shot_noise_dn", &C::shot_noise_dn, units::kNone,
-             "Sensor noise: photon shot noise, standard deviation in 8-bit steps at white (it "
-             "grows as the square root of the signal); 0: none")
+             "Sensor noise: photon shot noise, standard deviation in steps of 1/255 of linear "
+             "light at white, before the sRGB encoding (it grows as the square root of the "
+             "signal); 0: none")
         .range(0, 64);
     b.check([](const C& c, const scenario::FieldPaths<C>& at, std::vector<scenario::Problem>& out) {
       if (c.near_m >= c.far_m)
@@ -188,9 +192,39 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
       if (c.fx == 0.0 && c.fy > 0.0)
         out.push_back({at(c.fy), "needs " + at.key(c.fx) + ": with fx 0, " + at.key(c.hfov_rad) +
                                      " sets both (square pixels)"});
+      if (c.width <= 0 || c.height <= 0)
+        return;
+      // The principal point within the image, as the lower bound of cx and cy has it.
+      const bool centre_inside = c.cx <= c.width - 1.0 && c.cy <= c.height - 1.0;
+      if (c.cx > c.width - 1.0)
+        out.push_back({at(c.cx), fmt::format("must lie within the image: at most {} (width - 1)",
+                                             c.width - 1)});
+      if (c.cy > c.height - 1.0)
+        out.push_back({at(c.cy), fmt::format("must lie within the image: at most {} (height - 1)",
+                                             c.height - 1)});
+      // The field of view the intrinsics give over the pixels' outer edges, held to what
+      // horizontal_fov_deg allows: fx, fy or a tall image can reach past it, where the
+      // renderer's frustum degenerates and the near plane cuts the ground away.
+      const camera::Intrinsics k = intrinsics(c);
+      const auto fov_deg = [](double centre, int size, double f) {
+        return (std::atan((centre + 0.5) / f) + std::atan((size - 0.5 - centre) / f)) / kRadPerDeg;
+      };
+      constexpr double kMaxFovDeg = 170.0;
+      if (const double h = fov_deg(k.cx, c.width, k.fx); centre_inside && h > kMaxFovDeg)
+        out.push_back({at(c.fx > 0.0 ? c.fx : c.hfov_rad),
+                       fmt::format("gives a horizontal field of view of {:.1f} deg ({} px at fx "
+                                   "{:.4g} px), more than {} deg",
+                                   h, c.width, k.fx, kMaxFovDeg)});
+      if (const double v = fov_deg(k.cy, c.height, k.fy); centre_inside && v > kMaxFovDeg)
+        out.push_back({c.fy > 0.0   ? at(c.fy)
+                       : c.fx > 0.0 ? at(c.fx)
+                                    : at(c.height),
+                       fmt::format("gives a vertical field of view of {:.1f} deg ({} px at fy "
+                                   "{:.4g} px), more than {} deg",
+                                   v, c.height, k.fy, kMaxFovDeg)});
       // A lens the renderer cannot invert over the image: validate refuses what generate would.
-      if (!c.distortion.none() && c.width > 0 && c.height > 0)
-        if (const std::string why = camera::lensProblem(intrinsics(c), c.distortion); !why.empty())
+      if (!c.distortion.none() && centre_inside)
+        if (const std::string why = camera::lensProblem(k, c.distortion); !why.empty())
           out.push_back({at(c.distortion), why});
     });
     return b;
@@ -319,6 +353,26 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         body_ = std::move(mesh);
       }
     }
+    // The near plane cuts away what is nearer than near_m along the optical axis: for a camera
+    // that looks down steeply from low down (an inspection camera) that is the track itself,
+    // drawn as nothing (depth 0, class sky). Said once, from the rail-top plane under a level
+    // train (the reported point is reference_point above the pivots' midpoint at rail top).
+    const double height = T_body_cam_.translation().z() + train.reference_point.z();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const double u : {0.0, 0.5 * (c.width - 1), c.width - 1.0})
+      for (const double v : {0.0, c.height - 1.0}) {
+        const Eigen::Vector3d ray((u - intrinsics_.cx) / intrinsics_.fx,
+                                  (v - intrinsics_.cy) / intrinsics_.fy, 1.0);
+        const double down = -(T_body_cam_.linear() * ray).z();  // per metre of depth
+        if (height > 0.0 && down > 0.0)
+          nearest = std::min(nearest, height / down);
+      }
+    if (nearest < c.near_m)
+      logWarn(
+          fmt::format("{}: the camera sees the rail-top plane from {:.2f} m along its axis, "
+                      "nearer than near_m ({} m): what lies nearer is not drawn (depth 0, "
+                      "class sky); lower near_m",
+                      setup.path, nearest, c.near_m));
   }
 
   std::string name() const override { return name_; }
@@ -365,12 +419,32 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     writer_ = &writer;
     csv_ = &writer.appendFile(writer.layout().inSequence(outputs().front()));
-    if (state.is_null())
+    class_pixels_.assign(scene::classes().size(), 0);
+    if (state.is_null()) {
       csv_->write("frame,t_ns,objects,triangles\n");
+      return;
+    }
+    if (state.contains("class_pixels"))
+      class_pixels_ = state.at("class_pixels").get<std::vector<std::int64_t>>();
+    if (class_pixels_.size() != scene::classes().size())
+      throw nlohmann::json::type_error::create(302, "class_pixels has the wrong length", nullptr);
   }
 
-  // Stateless, but not null: a resumed run must not write the CSV header again.
-  nlohmann::json state() const override { return nlohmann::json::object(); }
+  // Not null even before a frame: a resumed run must not write the CSV header again.
+  nlohmann::json state() const override { return {{"class_pixels", class_pixels_}}; }
+
+  // The pixels per class of the run's semantic images (when the camera makes them): what
+  // classes.yaml's content is taken from when there is no LiDAR.
+  nlohmann::json summary() const override {
+    nlohmann::json classes = nlohmann::json::object();
+    std::int64_t total = 0;
+    for (std::size_t c = 0; c < class_pixels_.size(); ++c) {
+      total += class_pixels_[c];
+      if (class_pixels_[c] > 0)
+        classes[scene::classes()[c].name] = class_pixels_[c];
+    }
+    return {{"pixels", total}, {"class_pixels", classes}};
+  }
 
  private:
   // `k`: the pinhole to render with (larger than the image with a lens, see LensRemap).
@@ -516,6 +590,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           file(io::DatasetLayout::instanceFolder(index_)),
           io::encodePngGray16(img.width, img.height, pixels, io::PngContent::kLabels));
     }
+    for (const std::uint8_t cls : f.images.semantic)
+      ++class_pixels_[std::min<std::size_t>(cls, class_pixels_.size() - 1)];
     csv_->write(fmt::format("{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
                             f.images.objects, f.images.triangles));
   }
@@ -538,6 +614,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
+  std::vector<std::int64_t> class_pixels_;
 };
 
 }  // namespace

@@ -8,7 +8,8 @@
 
 namespace trainsim::sim {
 
-std::string classesYaml(std::span<const std::int64_t> class_points, int sequence) {
+std::string classesYaml(std::span<const std::int64_t> class_points, int sequence,
+                        std::string_view counted) {
   const auto classes = scene::classes();
   const std::int64_t total =
       std::accumulate(class_points.begin(), class_points.end(), std::int64_t{0});
@@ -17,7 +18,7 @@ std::string classesYaml(std::span<const std::int64_t> class_points, int sequence
       "# SemanticKITTI's config (semantic-kitti-api config/semantic-kitti.yaml), so its tools\n"
       "# read labels/*.label unchanged: label = class | instance << 16.\n"
       "name: \"trainsim\"\n";
-  const auto section = [&](const char* key, const char* comment, auto value) {
+  const auto section = [&](const char* key, std::string_view comment, auto value) {
     out += fmt::format("{}:{}\n", key, comment);
     for (const scene::SemanticClass& c : classes)
       out += fmt::format("  {}: {}\n", c.id, value(c));
@@ -27,7 +28,7 @@ std::string classesYaml(std::span<const std::int64_t> class_points, int sequence
   section("color_map", " # bgr", [](const scene::SemanticClass& c) {
     return fmt::format("[{}, {}, {}]", c.colour[2], c.colour[1], c.colour[0]);
   });
-  section("content", " # share of the first LiDAR's points in this sequence",
+  section("content", fmt::format(" # share of {} in this sequence", counted),
           [&](const scene::SemanticClass& c) {
             const std::int64_t n = c.id < class_points.size() ? class_points[c.id] : 0;
             return fmt::format("{:.9f}", total > 0 ? static_cast<double>(n) / total : 0.0);

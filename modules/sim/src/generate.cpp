@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <tuple>
 
 #include "classes_yaml.hpp"
 #include "trainsim/camera/x_display.hpp"
@@ -51,17 +52,24 @@ io::Manifest manifest(const scenario::Scenario& scenario, const io::DatasetLayou
   return m;
 }
 
-// Each class's points in the first LiDAR's summary (for classes.yaml's content), by class id.
-std::vector<std::int64_t> firstLidarClassPoints(const GenerateReport& report) {
-  std::vector<std::int64_t> points(scene::classes().size(), 0);
-  for (const auto& o : report.outputs) {
-    if (o.kind != kLidarKind)
-      continue;
-    for (const auto& [name, count] : o.summary.at("class_points").items())
-      points[scene::classId(name)] = count.get<std::int64_t>();
-    break;
-  }
-  return points;
+// Each class's points in the first LiDAR's summary, by class id (for classes.yaml's content,
+// which SemanticKITTI's trainers weigh classes by); without a LiDAR, the first camera's
+// semantic pixels; all 0 without either.
+std::pair<std::vector<std::int64_t>, std::string> classContent(const GenerateReport& report) {
+  std::vector<std::int64_t> counts(scene::classes().size(), 0);
+  const std::tuple<const char*, const char*, const char*> sources[] = {
+      {kLidarKind, "class_points", "the first LiDAR's points"},
+      {kCameraKind, "class_pixels", "the first camera's semantic pixels (no LiDAR)"}};
+  for (const auto& [kind, key, counted] : sources)
+    for (const auto& o : report.outputs) {
+      if (o.kind != kind || !o.summary.is_object() || !o.summary.contains(key))
+        continue;
+      for (const auto& [name, count] : o.summary.at(key).items())
+        counts[scene::classId(name)] = count.get<std::int64_t>();
+      if (std::any_of(counts.begin(), counts.end(), [](std::int64_t n) { return n > 0; }))
+        return {counts, counted};
+    }
+  return {counts, "the first LiDAR's points"};
 }
 
 }  // namespace
@@ -142,8 +150,8 @@ GenerateReport runDataset(const scenario::Scenario& scenario, const Trajectory* 
     report.render_threads = run.render_threads;
     report.samples = trajectory->sampleCount();
   }
-  writer.writeFile(io::DatasetLayout::kClasses,
-                   classesYaml(firstLidarClassPoints(report), layout.sequence()));
+  const auto [content, counted] = classContent(report);
+  writer.writeFile(io::DatasetLayout::kClasses, classesYaml(content, layout.sequence(), counted));
   writer.finish(manifest(scenario, layout, trajectory, report).toJson());
   return report;
 }
