@@ -150,7 +150,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
     b.choice("daytime", &C::daytime,
              "Sun position: noon (south, 55 deg up), morning (east, 15 deg), evening (west, 10 "
              "deg), night (no sun, a faint sky, the train's headlights on) or custom "
-             "(sun_azimuth_deg, sun_elevation_deg)");
+             "(sun_azimuth_deg, sun_elevation_deg); a sun under 20 deg reddens the sky's "
+             "horizon and darkens its zenith");
     b.number("sun_azimuth_deg", &C::sun_azimuth_rad, units::kDegree,
              "Custom sun azimuth, clockwise from north (world y)")
         .range(0, 360);
@@ -275,6 +276,18 @@ camera::Lighting lighting(const CameraConfig& c) {
       Eigen::Vector3d(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
   // A low sun lights less, and the sky's light is a larger share.
   l.sun_intensity = 0.55 + 0.45 * std::sin(el);
+  // A low sun reddens the horizon and darkens the zenith (a look, not a sky model: under 20 deg
+  // of elevation the colours move linearly towards a sunrise sky's, all the way at 0 deg); a sun
+  // higher than that leaves the renderer's clear day sky as it is.
+  const double low = std::clamp((20.0 * kRadPerDeg - el) / (20.0 * kRadPerDeg), 0.0, 1.0);
+  const auto towards = [&](scene::Rgb from, scene::Rgb to) {
+    scene::Rgb out{};
+    for (std::size_t i = 0; i < 3; ++i)
+      out[i] = static_cast<std::uint8_t>(std::lround(from[i] + low * (to[i] - from[i])));
+    return out;
+  };
+  l.sky_horizon = towards(l.sky_horizon, {240, 176, 128});
+  l.sky_zenith = towards(l.sky_zenith, {72, 100, 160});
   if (c.daytime == Daytime::kNight) {
     l.sun_intensity = 0.0;
     l.ambient = 0.06;
