@@ -83,11 +83,15 @@ struct SubHit {
   double rho;
 };
 
-// Whether `b` hit the surface `a` hit, as far as the pulse can tell: the plane through a's hit
-// with a's normal meets b's ray (from the same origin) within `separation` of where b hit.
-// Exact for a plane at any incidence; a gently curved surface (the ground) passes within the
-// separation over a footprint's width.
+// Whether `b` hit the surface `a` hit, as far as the pulse can tell: the same object and class,
+// and the plane through a's hit with a's normal meets b's ray (from the same origin) within
+// `separation` of where b hit. Exact for a plane at any incidence; a gently curved surface (the
+// ground) passes within the separation over a footprint's width. Only one object: at a grazing
+// angle the plane's prediction swings with the smallest change of direction, and a wire's hit
+// must not pass for the ground behind it by chance.
 bool onOneSurface(const SubHit& a, const SubHit& b, double separation) {
+  if (a.hit->object != b.hit->object || a.hit->cls != b.hit->cls)
+    return false;
   const Eigen::Vector3d n = a.hit->normal.cast<double>();
   const double across = n.dot(b.direction.cast<double>());
   if (std::abs(across) < 1e-9)
