@@ -46,14 +46,15 @@ Eigen::Isometry3d cameraPose(const sim::Trajectory& trajectory, TimeNs t) {
 
 // What the renderer leaves out: nothing (everything in the window at full detail), what lies
 // outside the view frustum, or that and detail below a pixel (the run's setting).
-enum class Detail { kFull, kCulled, kLod };
+enum class Detail { kFull, kCulled, kLod, kLodFxaa };
 
 camera::RendererOptions options(int width, int height, Detail detail) {
   camera::RendererOptions o;
   o.intrinsics = camera::Intrinsics::fromHorizontalFov(width, height, 81.6 * M_PI / 180.0);
   o.far_m = kDrawDistance;
   o.cull = detail != Detail::kFull;
-  o.lod_pixels = detail == Detail::kLod ? 1.0 : 0.0;
+  o.lod_pixels = detail == Detail::kLod || detail == Detail::kLodFxaa ? 1.0 : 0.0;
+  o.fxaa = detail == Detail::kLodFxaa;
   return o;
 }
 
@@ -265,6 +266,13 @@ int main(int argc, char** argv) {
     const Stretch l = walk(def, *stream, lod, 150.0, 5900.0, 300.0, &full);
     printRow(fmt::format("{} x {}, culled + levels of detail (1 px)", width, height), l, base,
              true);
+    // FXAA smooths the colour image alone: its class and depth columns must stay those of the
+    // row above.
+    const camera::Renderer fxaa(options(width, height, Detail::kLodFxaa));
+    const Stretch f = walk(def, *stream, fxaa, 150.0, 5900.0, 300.0, &full);
+    printRow(
+        fmt::format("{} x {}, culled + levels of detail + FXAA (the run's default)", width, height),
+        f, base, true);
   }
   pngTable(def);
   if (quick)

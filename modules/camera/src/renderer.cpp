@@ -598,6 +598,7 @@ struct Renderer::Impl {
                          lighting.sky_horizon[2] / 255.0);
       ren->SetBackground2(lighting.sky_zenith[0] / 255.0, lighting.sky_zenith[1] / 255.0,
                           lighting.sky_zenith[2] / 255.0);
+      ren->SetUseFXAA(o.fxaa && o.passes.rgb);
       gl->window->Render();
       if (o.passes.rgb) {
         vtkNew<vtkUnsignedCharArray> rgb;
@@ -624,6 +625,7 @@ struct Renderer::Impl {
                      [](const DrawnEntry* e) { return e->idActor(); });
       show(actors);
       ren->GradientBackgroundOff();
+      ren->SetUseFXAA(false);  // ids are never blended
       ren->SetBackground(scene::cls::kSky / 255.0, 0.0, 0.0);
       gl->window->Render();
       vtkNew<vtkUnsignedCharArray> ids;

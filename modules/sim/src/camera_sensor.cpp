@@ -64,6 +64,7 @@ struct CameraConfig {
   bool headlights = false;
   double shutter_s = 0.01, f_number = 16.0, iso = 100.0;
   double read_noise_dn = 0.0, shot_noise_dn = 0.0;
+  bool fxaa = true;
 };
 
 const scenario::Binding<camera::Distortion>& distortionBinding() {
@@ -173,6 +174,10 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
         .range(1e-6, 10);
     b.number("f_number", &C::f_number, units::kNone, "Aperture, the f-number N").range(0.5, 64);
     b.number("iso", &C::iso, units::kNone, "Sensitivity, ISO").range(10, 409600);
+    b.boolean("fxaa", &C::fxaa,
+              "Smooth the RGB image's edges (FXAA, VTK's post-process: stair-steps on rails and "
+              "masts, moire on distant sleepers and wires broken into dashes soften); depth, "
+              "semantic and instance images stay per pixel. Off: the raw rasterised picture");
     b.number("read_noise_dn", &C::read_noise_dn, units::kNone,
              "Sensor noise: Gaussian read noise, standard deviation in steps of 1/255 of linear "
              "light, before the sRGB encoding (in the PNG's 8-bit steps that is up to 13 times "
@@ -467,6 +472,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     o.intrinsics = k;
     o.near_m = c.near_m;
     o.far_m = c.far_m;
+    o.fxaa = c.fxaa;
     // Fog needs each pixel's range, so a foggy colour image needs the depth pass too.
     const bool ids = c.semantic || c.semantic_preview || c.instance;
     o.passes = {c.rgb, c.depth || c.depth_float || (c.rgb && c.fog_visibility_m > 0.0), ids, ids};

@@ -58,6 +58,9 @@ struct RendererOptions {
   /// the nearest point of the object's box, spans at most this many pixels. 0: every object at
   /// full detail.
   double lod_pixels = 1.0;
+  /// Smooth the colour image's edges with FXAA (VTK's post-process on the colour pass only:
+  /// depth, class and instance images stay per pixel, unblended).
+  bool fxaa = false;
 };
 
 /// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).
