@@ -166,6 +166,35 @@ PY
 expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top plane from 0.35 m along its axis, nearer than near_m" "a near plane cutting the track is flagged"
 grep -q "cameras\[[012]\]: the camera sees the rail-top plane" "$WORK/err" && fail "a windscreen camera was flagged for its near plane" ||
   pass "windscreen cameras are not flagged for their near plane"
+# Daylight does not reach far into a tunnel: at noon, the pictures 100 m or more inside an 800 m
+# tunnel are much darker than those outside it (the headlights light the tube).
+cat >"$WORK/tunnel.json" <<'JSON'
+{"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 400}, {"type": "tunnel", "length_m": 800}, {"type": "straight", "length_m": 400}]},
+ "dataset": {"frame_period_ns": 2000000000},
+ "sensors": {"cameras": [{"width": 240, "height": 80, "period_ns": 2000000000}]}}
+JSON
+expect_exit 0 "generate through a tunnel" -- "$TRAINSIM" generate "$WORK/tunnel.json" --out "$WORK/tunnel" --progress none
+python3 - "$WORK/tunnel" <<'PY' && pass "tunnel pictures are dark inside, daylit outside" || fail "tunnel lighting"
+import bisect, csv, os, sys
+sys.path.insert(0, os.environ["TESTS_DIR"])
+from kitti_read import read_png
+root = sys.argv[1]
+seq = os.path.join(root, "sequences", "00")
+rows = list(csv.DictReader(open(os.path.join(root, "trajectory.csv"))))
+t_ns = [int(r["t_ns"]) for r in rows]
+inside, outside = [], []
+for i, line in enumerate(open(os.path.join(seq, "times.txt"))):
+    chainage = float(rows[bisect.bisect_left(t_ns, round(float(line) * 1e9))]["chainage_m"])
+    _, _, _, px = read_png(os.path.join(seq, "image_2", "%06d.png" % i))
+    mean = sum(sum(row) for row in px) / sum(len(row) for row in px)
+    if 500 < chainage < 1100:
+        inside.append(mean)
+    elif chainage < 350 or chainage > 1250:
+        outside.append(mean)
+assert len(inside) >= 5 and len(outside) >= 10, (len(inside), len(outside))
+print("inside", max(inside), "outside", min(outside))
+assert max(inside) < 0.3 * min(outside), (inside, outside)
+PY
 # Dual returns with one ray a pulse have nothing to pair: the run says so (and not for a LiDAR
 # whose pulses have sub-rays). Without a camera, calib.txt still has P0-P3 for pykitti.
 cat >"$WORK/dual.json" <<'JSON'

@@ -152,7 +152,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "Sun position: noon (south, 55 deg up), morning (east, 15 deg), evening (west, 10 "
              "deg), night (no sun, a faint sky, the train's headlights on) or custom "
              "(sun_azimuth_deg, sun_elevation_deg); a sun under 20 deg reddens the sky's "
-             "horizon and darkens its zenith");
+             "horizon and darkens its zenith. In a tunnel, daylight fades out over the first "
+             "50 m from a portal and the headlights light the tube");
     b.number("sun_azimuth_deg", &C::sun_azimuth_rad, units::kDegree,
              "Custom sun azimuth, clockwise from north (world y)")
         .range(0, 360);
@@ -371,6 +372,18 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         body_ = std::move(mesh);
       }
     }
+    // Tunnels: the night's lamps and faint light, the day's sky seen through the portals.
+    CameraConfig at_night = c;
+    at_night.daytime = Daytime::kNight;
+    tunnel_lighting_ = lighting(at_night);
+    tunnel_lighting_.sky_zenith = lighting_.sky_zenith;
+    tunnel_lighting_.sky_horizon = lighting_.sky_horizon;
+    if (setup.context.route != nullptr)
+      for (const track::Block& block : setup.context.route->blocks)
+        if (block.type == track::BlockType::kTunnel)
+          tunnels_.push_back(block);
+    camera_ahead_of_front_m_ = c.basics.mount.position_m.x() + train.reference_point.x() -
+                               0.5 * train.vehicle.bogie_spacing_m;
     // The near plane cuts away what is nearer than near_m along the optical axis: for a camera
     // that looks down steeply from low down (an inspection camera) that is the track itself,
     // drawn as nothing (depth 0, class sky). Said once, from the rail-top plane under a level
@@ -532,7 +545,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       window.tiles.push_back(std::move(tile));
     }
     CameraFrame out;
-    out.images = renderer_.render(window, T, lighting_);
+    out.images = renderer_.render(window, T, lightingAt(trajectory_.sample(k).chainage_m));
     if (config_.rgb && config_.fog_visibility_m > 0.0)
       applyFog(out.images);  // by the rays of the render's pinhole
     if (lens_)
@@ -615,6 +628,26 @@ class CameraSensor final : public SensorOf<CameraFrame> {
                             f.images.objects, f.images.triangles));
   }
 
+  // Daylight does not reach far into a tunnel: from a portal, the sun's and the sky's light
+  // fade linearly to none 50 m in (a look, not a light-transport model), the train's headlights
+  // light the tube, and the background stays the sky seen through the portals. Outside a
+  // tunnel, the configured lighting as it is.
+  camera::Lighting lightingAt(double front_chainage_m) const {
+    const double c = front_chainage_m + camera_ahead_of_front_m_;
+    double inside = 0.0;  // metres from the nearer portal, 0 outside
+    for (const track::Block& b : tunnels_)
+      if (c > b.chainage_begin_m && c < b.chainage_end_m)
+        inside = std::min(c - b.chainage_begin_m, b.chainage_end_m - c);
+    if (inside <= 0.0)
+      return lighting_;
+    constexpr double kDaylightReach = 50.0;
+    const double day = std::max(0.0, 1.0 - inside / kDaylightReach);
+    camera::Lighting l = tunnel_lighting_;
+    l.sun_intensity = day * lighting_.sun_intensity;
+    l.ambient = tunnel_lighting_.ambient + day * (lighting_.ambient - tunnel_lighting_.ambient);
+    return l;
+  }
+
   const Trajectory& trajectory_;
   scene::SceneStream* scene_;
   std::shared_ptr<InstanceTable> instances_;
@@ -628,7 +661,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   RandomStream noise_;
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
   std::unique_ptr<camera::LensRemap> lens_;
-  camera::Lighting lighting_;
+  camera::Lighting lighting_, tunnel_lighting_;
+  std::vector<track::Block> tunnels_;     // the main track's tunnel blocks
+  double camera_ahead_of_front_m_ = 0.0;  // the camera's chainage past the front pivot's
   camera::Exposure exposure_;
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
