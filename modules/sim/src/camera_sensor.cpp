@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 
+#include "class_counts.hpp"
 #include "trainsim/camera/exposure.hpp"
 #include "trainsim/camera/lens.hpp"
 #include "trainsim/camera/renderer.hpp"
@@ -450,32 +451,16 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     writer_ = &writer;
     csv_ = &writer.appendFile(writer.layout().inSequence(outputs().front()));
-    class_pixels_.assign(scene::classes().size(), 0);
-    if (state.is_null()) {
+    class_pixels_.restore(state);
+    if (state.is_null())
       csv_->write("frame,t_ns,objects,triangles\n");
-      return;
-    }
-    if (state.contains("class_pixels"))
-      class_pixels_ = state.at("class_pixels").get<std::vector<std::int64_t>>();
-    if (class_pixels_.size() != scene::classes().size())
-      throw nlohmann::json::type_error::create(302, "class_pixels has the wrong length", nullptr);
   }
 
   // Not null even before a frame: a resumed run must not write the CSV header again.
-  nlohmann::json state() const override { return {{"class_pixels", class_pixels_}}; }
-
+  nlohmann::json state() const override { return class_pixels_.state(); }
   // The pixels per class of the run's semantic images (when the camera makes them): what
   // classes.yaml's content is taken from when there is no LiDAR.
-  nlohmann::json summary() const override {
-    nlohmann::json classes = nlohmann::json::object();
-    std::int64_t total = 0;
-    for (std::size_t c = 0; c < class_pixels_.size(); ++c) {
-      total += class_pixels_[c];
-      if (class_pixels_[c] > 0)
-        classes[scene::classes()[c].name] = class_pixels_[c];
-    }
-    return {{"pixels", total}, {"class_pixels", classes}};
-  }
+  nlohmann::json summary() const override { return class_pixels_.summary(); }
 
  private:
   // `k`: the pinhole to render with (larger than the image with a lens, see LensRemap).
@@ -623,7 +608,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           io::encodePngGray16(img.width, img.height, pixels, io::PngContent::kLabels));
     }
     for (const std::uint8_t cls : f.images.semantic)
-      ++class_pixels_[std::min<std::size_t>(cls, class_pixels_.size() - 1)];
+      class_pixels_.add(cls);
     csv_->write(fmt::format("{},{},{},{}\n", frame, k * trajectory_.samplePeriod(),
                             f.images.objects, f.images.triangles));
   }
@@ -668,7 +653,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
-  std::vector<std::int64_t> class_pixels_;
+  ClassCounts class_pixels_{"class_pixels", "pixels"};
 };
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "class_counts.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
 #include "trainsim/core/log.hpp"
@@ -436,28 +437,13 @@ class LidarSensor final : public SensorOf<LidarScan> {
   void begin(io::DatasetWriter& writer, const nlohmann::json& state) override {
     writer_ = &writer;
     csv_ = &writer.appendFile(writer.layout().inSequence(outputs().front()));
-    class_points_.assign(scene::classes().size(), 0);
-    if (state.is_null()) {
+    class_points_.restore(state);
+    if (state.is_null())
       csv_->write("frame,t_ns,points,rays,tiles\n");
-      return;
-    }
-    class_points_ = state.at("class_points").get<std::vector<std::int64_t>>();
-    if (class_points_.size() != scene::classes().size())
-      throw nlohmann::json::type_error::create(302, "class_points has the wrong length", nullptr);
   }
 
-  nlohmann::json state() const override { return {{"class_points", class_points_}}; }
-
-  nlohmann::json summary() const override {
-    nlohmann::json classes = nlohmann::json::object();
-    std::int64_t total = 0;
-    for (std::size_t c = 0; c < class_points_.size(); ++c) {
-      total += class_points_[c];
-      if (class_points_[c] > 0)
-        classes[scene::classes()[c].name] = class_points_[c];
-    }
-    return {{"points", total}, {"class_points", classes}};
-  }
+  nlohmann::json state() const override { return class_points_.state(); }
+  nlohmann::json summary() const override { return class_points_.summary(); }
 
  private:
   LidarScan read(std::int64_t k) const override {
@@ -526,7 +512,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
       io::putPacked(out, label);
       if (pcd_)
         scan.pcd[i].label = label;
-      ++class_points_[scan.cls[i]];
+      class_points_.add(scan.cls[i]);
     }
     const io::DatasetLayout& layout = writer_->layout();
     const auto file = [&](const std::string& folder, const char* extension) {
@@ -559,7 +545,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   mutable ObjectPool<lidar::LidarFrame> frames_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;
-  std::vector<std::int64_t> class_points_;
+  ClassCounts class_points_{"class_points", "points"};
 };
 
 }  // namespace
