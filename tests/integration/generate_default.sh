@@ -110,6 +110,57 @@ for v in range(h):
             checked += 1
 assert checked > w * h // 4, checked
 PY
+# Signals show their aspect: instances.csv names it for every signal (never stop on the train's
+# own track 0), and where a signal is large in the night picture, its brightest pixel has the
+# aspect's colour (the lit lamp, overexposed at ISO 400 as real ones are).
+python3 - "$WORK/t1/sequences/00" <<'PY' && pass "signal aspects in instances.csv and in the pictures" || fail "signal aspects"
+import os, sys
+sys.path.insert(0, os.environ.get("TESTS_DIR", "."))
+from kitti_read import read_png
+seq = sys.argv[1]
+lines = open(os.path.join(seq, "instances.csv")).read().splitlines()
+assert lines[0] == "instance,scene_instance,class,state", lines[0]
+aspects = {}
+for line in lines[1:]:
+    instance, scene, cls, state = line.split(",")
+    scene = int(scene)
+    signal = scene >> 56 == 1 and (scene >> 36) & 0xFF == 12  # a track asset of kind signal
+    assert (state in ("proceed", "caution", "stop")) == signal and (state == "") != signal, line
+    if signal:
+        assert not (state == "stop" and (scene >> 44) & 0xFFF == 0), line  # the train's track
+        aspects[int(instance)] = state
+assert len(set(aspects.values())) == 3, aspects
+checked = {}
+frames = sorted(os.listdir(os.path.join(seq, "instance_2")))
+for frame in frames[::3]:
+    w, h, _, ids = read_png(os.path.join(seq, "instance_2", frame))
+    count = {}
+    for row in ids:
+        for i in row:
+            if i in aspects:
+                count[i] = count.get(i, 0) + 1
+    large = [i for i, n in count.items() if n >= 150]
+    if not large:
+        continue
+    _, _, _, cls = read_png(os.path.join(seq, "semantic_2", frame))
+    _, _, _, rgb = read_png(os.path.join(seq, "image_2", frame))
+    brightest = {}
+    for v in range(h):
+        for u in range(w):
+            i = ids[v][u]
+            if i in large and cls[v][u] == 16:
+                px = rgb[v][3 * u:3 * u + 3]
+                if sum(px) > sum(brightest.get(i, (0, 0, 0))):
+                    brightest[i] = tuple(px)
+    for i, (r, g, b) in brightest.items():
+        seen = ("stop" if r - g >= 60 else
+                "caution" if r >= 200 and g >= 200 and r - b >= 60 else
+                "proceed" if g >= 200 and g - r >= 40 else "none")
+        assert seen == aspects[i], (frame, i, aspects[i], (r, g, b))
+        checked[aspects[i]] = checked.get(aspects[i], 0) + 1
+assert len(checked) == 3, checked
+print(checked)
+PY
 # A different seed is a different run.
 expect_exit 0 "generate --seed 7" -- "$TRAINSIM" generate "$WORK/short.json" --out "$WORK/d" --seed 7
 grep -q '"seed": 7' "$WORK/d/scenario.json" && pass "--seed recorded in scenario.json" ||

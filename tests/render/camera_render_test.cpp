@@ -336,5 +336,64 @@ TEST(CameraRender, ImagesDoNotDependOnWhatWasDrawnBefore) {
   EXPECT_EQ(first.depth, fresh.depth);
 }
 
+TEST(CameraRender, ALitSignalLampShowsItsEmissionColourWhateverTheLightAndKeepsItsLabels) {
+  // A signal head 15 m ahead facing the camera: a red lamp lit over a dark yellow and green
+  // lens (discs as boxes 0.3 m across, so their centres are well inside many pixels).
+  const Eigen::Vector3d O(2.0e5, -4.0e5, 30.0);
+  auto mesh = std::make_shared<scene::Mesh>();
+  mesh->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
+  scene::addBox(*mesh, {0.05f, -0.4f, -1.2f}, {0.5f, 0.4f, 1.2f});
+  const std::pair<float, scene::MaterialId> lamps[] = {{0.75f, scene::mat::kSignalLampRed},
+                                                       {0.0f, scene::mat::kSignalLensYellow},
+                                                       {-0.75f, scene::mat::kSignalLensGreen}};
+  for (const auto& [z, material] : lamps) {
+    mesh->beginPart(scene::cls::kSignal, material);
+    scene::addBox(*mesh, {0.0f, -0.15f, z - 0.15f}, {0.05f, 0.15f, z + 0.15f});
+  }
+  const Eigen::Vector3d head = O + Eigen::Vector3d(15.0, 0.0, 2.0);
+  const scene::InstanceId id = scene::objectInstance(1, 1, 7);
+  const auto tile =
+      makeTile(O, {}, {}, {scene::Object::place(mesh, head, Eigen::Matrix3f::Identity(), id)});
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  const camera::Renderer renderer(o);
+  const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.0));
+  camera::Lighting noon, night;
+  night.sun_intensity = 0.0;
+  night.ambient = 0.02;
+  night.sky_zenith = night.sky_horizon = {4, 6, 12};
+  const camera::CameraImages day = renderer.render({{tile}}, T, noon);
+  const camera::CameraImages dark = renderer.render({{tile}}, T, night);
+  const auto pixel = [&](const Eigen::Vector3d& world) {
+    const Eigen::Vector2d uv = o.intrinsics.project(T.inverse() * world);
+    return static_cast<std::size_t>(std::lround(uv.y())) * o.intrinsics.width +
+           static_cast<std::size_t>(std::lround(uv.x()));
+  };
+  const auto rgb = [](const camera::CameraImages& img, std::size_t i) {
+    return scene::Rgb{img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]};
+  };
+  const std::size_t red = pixel(head + Eigen::Vector3d(0.0, 0.0, 0.75)), yellow = pixel(head),
+                    green = pixel(head + Eigen::Vector3d(0.0, 0.0, -0.75)),
+                    body = pixel(head + Eigen::Vector3d(0.0, 0.3, 0.4));
+  const scene::Rgb glow = scene::material(scene::mat::kSignalLampRed).emission;
+  // The lit lamp is its emission colour by day and by night, exactly (drawn unlit, no FXAA).
+  EXPECT_EQ(rgb(day, red), glow);
+  EXPECT_EQ(rgb(dark, red), glow);
+  // The dark lenses and the head are lit by the scene: darker still at night, and far below the
+  // lamp.
+  for (const std::size_t i : {yellow, green, body}) {
+    const scene::Rgb d = rgb(dark, i), n = rgb(day, i);
+    EXPECT_LT(std::max({d[0], d[1], d[2]}), 12) << i;
+    EXPECT_LT(n[0] + n[1] + n[2], 255) << i;
+    EXPECT_GT(n[0] + n[1] + n[2], d[0] + d[1] + d[2]) << i;
+  }
+  // The lamp keeps its labels and its depth: class signal, the signal's instance, 15 m away.
+  for (const camera::CameraImages* img : {&day, &dark}) {
+    EXPECT_EQ(img->semantic[red], scene::cls::kSignal);
+    EXPECT_EQ(img->instances.at(img->object[red]), id);
+    EXPECT_NEAR(img->depth[red], 15.0, 1.0 / 256.0);
+  }
+}
+
 }  // namespace
 }  // namespace trainsim

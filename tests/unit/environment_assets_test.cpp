@@ -293,5 +293,64 @@ TEST(Assets, MastsSignalsAndFencesStayOutOfEveryTracksClearanceGauge) {
   EXPECT_GT(checked, 10000u);
 }
 
+TEST(Assets, SignalsShowOneLitAspectThatTheTrainsOwnTrackNeverSetsAtStop) {
+  // Each aspect's prototype lights its own lamp (an emitting material) and no other.
+  const World& w = defaultWorld();
+  const environment::Environment& env = w.env();
+  const std::pair<environment::SignalAspect, scene::MaterialId> lit[] = {
+      {environment::SignalAspect::kStop, scene::mat::kSignalLampRed},
+      {environment::SignalAspect::kCaution, scene::mat::kSignalLampYellow},
+      {environment::SignalAspect::kProceed, scene::mat::kSignalLampGreen}};
+  for (const auto& [aspect, lamp] : lit) {
+    std::vector<scene::MaterialId> emitting;
+    for (const scene::MeshPart& part : env.signalPrototype(aspect)->parts)
+      if (scene::material(part.material).emits())
+        emitting.push_back(part.material);
+    EXPECT_EQ(emitting, std::vector<scene::MaterialId>{lamp})
+        << environment::signalAspectName(aspect);
+  }
+
+  // Every signal in the scene is drawn with its own aspect's prototype, and other things have
+  // none.
+  std::set<scene::InstanceId> signals;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      const auto aspect = env.signalAspect(o.instance);
+      const auto asset = scene::trackAsset(o.instance);
+      ASSERT_EQ(aspect.has_value(), asset && asset->kind == 12);
+      if (!aspect)
+        continue;
+      EXPECT_EQ(o.mesh, env.signalPrototype(*aspect));
+      signals.insert(o.instance);
+    }
+  EXPECT_GE(signals.size(), 20u);  // 14 block starts on the main track and on the double track
+
+  // The shares over many signals (instance ids as the layout makes them) follow signal_caution
+  // and signal_stop, and track 0 (the train's) never shows stop; the same id always draws the
+  // same aspect, in another environment of the same seed too.
+  const Json shares = {{"assets", {{"signal_caution", 0.25}, {"signal_stop", 0.4}}}};
+  const World again = makeWorld(shares), twin = makeWorld(shares);
+  constexpr int kSignals = 20000;
+  for (const int track : {0, 1}) {
+    std::map<environment::SignalAspect, int> count;
+    for (int i = 0; i < kSignals; ++i) {
+      const scene::InstanceId id = scene::trackAssetInstance(track, 12, i);
+      const auto aspect = again.env().signalAspect(id);
+      ASSERT_TRUE(aspect.has_value());
+      ++count[*aspect];
+      ASSERT_EQ(aspect, twin.env().signalAspect(id));
+    }
+    const double stop = track == 0 ? 0.0 : 0.4;
+    const auto share = [&](environment::SignalAspect a) {
+      return static_cast<double>(count[a]) / kSignals;
+    };
+    EXPECT_EQ(count[environment::SignalAspect::kStop] == 0, track == 0);
+    // Binomial σ at n = 20 000 is at most 0.0035: 4σ.
+    EXPECT_NEAR(share(environment::SignalAspect::kStop), stop, 0.014) << track;
+    EXPECT_NEAR(share(environment::SignalAspect::kCaution), 0.25, 0.014) << track;
+    EXPECT_NEAR(share(environment::SignalAspect::kProceed), 1.0 - 0.25 - stop, 0.014) << track;
+  }
+}
+
 }  // namespace
 }  // namespace trainsim

@@ -67,7 +67,10 @@ TEST(SemanticTable, NamedIdsMatchTheTable) {
       {scene::mat::kRetroreflector, "retroreflector"},
       {scene::mat::kSignalLensRed, "signal_lens_red"},
       {scene::mat::kSignalLensYellow, "signal_lens_yellow"},
-      {scene::mat::kSignalLensGreen, "signal_lens_green"}};
+      {scene::mat::kSignalLensGreen, "signal_lens_green"},
+      {scene::mat::kSignalLampRed, "signal_lamp_red"},
+      {scene::mat::kSignalLampYellow, "signal_lamp_yellow"},
+      {scene::mat::kSignalLampGreen, "signal_lamp_green"}};
   for (const auto& [id, name] : materials)
     EXPECT_EQ(scene::materialId(name), id) << name;
   for (const auto& m : scene::materials()) {

@@ -111,10 +111,14 @@ std::array<std::uint8_t, 3> idColour(scene::ClassId cls, std::uint32_t slot) {
 }
 
 // One level of a shared mesh as VTK polydata (float vertices relative to the mesh's origin),
-// with its triangles' surface colours ("albedo") and classes ("class").
+// with its triangles' surface colours ("albedo") and classes ("class"). A mesh with emitting
+// parts (a signal's lit lamp) is drawn in the colour pass as two: what reflects, lit by the
+// scene's lights, and what emits, at its emission colour whatever the lighting.
 struct MeshLevel {
-  vtkSmartPointer<vtkPolyData> poly;
-  vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by the mesh's objects
+  vtkSmartPointer<vtkPolyData> poly;          // every triangle (the id pass's)
+  vtkSmartPointer<vtkPolyData> lit, glow;     // when some part emits: the two halves; else null
+  vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by the objects
+  vtkSmartPointer<vtkPolyDataMapper> glow_mapper;  // the same for what emits
   std::int64_t triangles = 0;
 };
 
@@ -125,10 +129,10 @@ struct MeshEntry {
 };
 
 // An object (or a wire) as drawn: its actors for the two passes at each level of detail it has
-// been drawn at, and its id slot.
+// been drawn at (and for what of it emits light, if anything), and its id slot.
 struct DrawnEntry {
   std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive; null: unmade
-  std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id;
+  std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id, glow;
   bool shares_colour_mapper = false;  // an object's colour actors draw its mesh's mappers
   std::uint32_t slot = 0;
   int level = 0;  // this render's
@@ -136,6 +140,7 @@ struct DrawnEntry {
   std::uint64_t used = 0;
   vtkActor* colourActor() const { return colour[level]; }
   vtkActor* idActor() const { return id[level]; }
+  vtkActor* glowActor() const { return glow[level]; }  // null when nothing of it emits
 };
 
 vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* array) {
@@ -149,7 +154,25 @@ vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* a
   return mapper;
 }
 
-vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
+// Which of a mesh's triangles meshPolyData() takes: all, those that reflect light, or those
+// that emit it (with their emission colours as albedo).
+enum class Emitting { kAll, kNot, kOnly };
+
+bool anyEmits(const scene::Mesh& mesh) {
+  return std::any_of(mesh.parts.begin(), mesh.parts.end(), [](const scene::MeshPart& part) {
+    return scene::material(part.material).emits();
+  });
+}
+
+vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh,
+                                          Emitting which = Emitting::kAll) {
+  const auto taken = [which](const scene::MeshPart& part) {
+    return which == Emitting::kAll ||
+           scene::material(part.material).emits() == (which == Emitting::kOnly);
+  };
+  std::size_t cells = 0;
+  for (const scene::MeshPart& part : mesh.parts)
+    cells += taken(part) ? part.triangle_count : 0;
   vtkNew<vtkPoints> points;
   points->SetDataTypeToFloat();
   points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.vertices.size()));
@@ -157,24 +180,27 @@ vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh) {
     points->SetPoint(static_cast<vtkIdType>(i), mesh.vertices[i].x(), mesh.vertices[i].y(),
                      mesh.vertices[i].z());
   vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(static_cast<vtkIdType>(mesh.triangles.size()),
-                       static_cast<vtkIdType>(3 * mesh.triangles.size()));
+  polys->AllocateExact(static_cast<vtkIdType>(cells), static_cast<vtkIdType>(3 * cells));
   vtkNew<vtkUnsignedCharArray> albedo;
   albedo->SetName("albedo");
   albedo->SetNumberOfComponents(3);
-  albedo->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
+  albedo->SetNumberOfTuples(static_cast<vtkIdType>(cells));
   vtkNew<vtkUnsignedCharArray> cls;
   cls->SetName("class");
-  cls->SetNumberOfTuples(static_cast<vtkIdType>(mesh.triangles.size()));
+  cls->SetNumberOfTuples(static_cast<vtkIdType>(cells));
+  vtkIdType cell = 0;
   for (const scene::MeshPart& part : mesh.parts) {
-    const scene::Rgb c = scene::material(part.material).colour;
+    if (!taken(part))
+      continue;
+    const scene::Material& m = scene::material(part.material);
+    const scene::Rgb c = which == Emitting::kOnly ? m.emission : m.colour;
     for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
-         ++t) {
+         ++t, ++cell) {
       const auto& tri = mesh.triangles[t];
       const vtkIdType ids[3] = {tri[0], tri[1], tri[2]};
       polys->InsertNextCell(3, ids);
-      albedo->SetTypedTuple(static_cast<vtkIdType>(t), c.data());
-      cls->SetValue(static_cast<vtkIdType>(t), part.cls);
+      albedo->SetTypedTuple(cell, c.data());
+      cls->SetValue(cell, part.cls);
     }
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
@@ -228,7 +254,7 @@ vtkSmartPointer<vtkPolyData> wirePolyData(const scene::Wire& wire, std::uint32_t
   return poly;
 }
 
-// Places both of a drawn thing's actors (one matrix shared by the two passes).
+// Places a drawn thing's actors (one matrix shared by the passes).
 void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation) {
   vtkNew<vtkMatrix4x4> m;
   for (int r = 0; r < 3; ++r) {
@@ -238,6 +264,8 @@ void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& 
   }
   e.colourActor()->SetUserMatrix(m);
   e.idActor()->SetUserMatrix(m);
+  if (vtkActor* glow = e.glowActor())
+    glow->SetUserMatrix(m);
 }
 
 // The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
@@ -302,7 +330,8 @@ struct Renderer::Impl {
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkLight> sun;
     std::vector<vtkSmartPointer<vtkLight>> spots;  // as many as a render has asked for
-    vtkNew<vtkProperty> lit, unlit;  // the colour pass's and the id pass's (see actor())
+    // The colour pass's, the id pass's and the colour pass's for what emits light (see actor()).
+    vtkNew<vtkProperty> lit, unlit, glow;
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
     std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
@@ -336,11 +365,12 @@ struct Renderer::Impl {
     gl->sun->SetLightTypeToSceneLight();
     gl->sun->SetPositional(false);
     gl->renderer->AddLight(gl->sun);
-    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get()}) {
+    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get()}) {
       p->SetInterpolationToFlat();
       p->SetSpecular(0.0);
     }
     gl->unlit->LightingOff();  // the id pass: the colour exactly as given
+    gl->glow->LightingOff();   // a lamp: its emission colour whatever the lights
     vtkCamera* cam = gl->renderer->GetActiveCamera();
     cam->SetPosition(0.0, 0.0, 0.0);
     cam->SetClippingRange(o.near_m, o.far_m);
@@ -353,14 +383,24 @@ struct Renderer::Impl {
     cam->UseExplicitProjectionTransformMatrixOn();
   }
 
+  static MeshLevel meshLevel(const scene::Mesh& mesh) {
+    MeshLevel m;
+    m.poly = meshPolyData(mesh);
+    m.triangles = static_cast<std::int64_t>(mesh.triangles.size());
+    if (anyEmits(mesh)) {
+      m.lit = meshPolyData(mesh, Emitting::kNot);
+      m.glow = meshPolyData(mesh, Emitting::kOnly);
+    }
+    return m;
+  }
+
   // The mesh's entry with `level` made; a level that would not save a fifth of the triangles of
   // the one before is that one.
   MeshEntry& meshEntry(const std::shared_ptr<const scene::Mesh>& mesh, int level) {
     MeshEntry& e = gl->meshes[mesh.get()];
     if (!e.levels[0].poly) {
       e.mesh = mesh;
-      e.levels[0].poly = meshPolyData(*mesh);
-      e.levels[0].triangles = static_cast<std::int64_t>(mesh->triangles.size());
+      e.levels[0] = meshLevel(*mesh);
     }
     for (int l = 1; l <= level; ++l) {
       MeshLevel& m = e.levels[l];
@@ -372,12 +412,15 @@ struct Renderer::Impl {
       // A mesh that collapses altogether (smaller than a cell) keeps its last level: it spans
       // about a pixel, and the semantic image should still show it.
       if (n > 0 && n * 5 <= before.triangles * 4)
-        m = {meshPolyData(light), nullptr, n};
+        m = meshLevel(light);
       else
         m = before;
     }
-    if (!e.levels[level].mapper)
-      e.levels[level].mapper = colourMapper(e.levels[level].poly, "albedo");
+    MeshLevel& m = e.levels[level];
+    if (!m.mapper)
+      m.mapper = colourMapper(m.lit ? m.lit : m.poly, "albedo");
+    if (m.glow && !m.glow_mapper)
+      m.glow_mapper = colourMapper(m.glow, "albedo");
     e.used = gl->frame;
     return e;
   }
@@ -431,6 +474,8 @@ struct Renderer::Impl {
       e.colour[level] = actor(m.levels[level].mapper, gl->lit);
       e.shares_colour_mapper = true;
       e.id[level] = actor(colourMapper(idPolyData(m.levels[level].poly, e.slot), "id"), gl->unlit);
+      if (m.levels[level].glow_mapper)
+        e.glow[level] = actor(m.levels[level].glow_mapper, gl->glow);
     }
     return e;
   }
@@ -469,8 +514,9 @@ struct Renderer::Impl {
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
         for (MeshLevel& m : it->second.levels)
-          if (m.mapper)
-            m.mapper->ReleaseGraphicsResources(gl->window);
+          for (vtkPolyDataMapper* mapper : {m.mapper.Get(), m.glow_mapper.Get()})
+            if (mapper != nullptr)
+              mapper->ReleaseGraphicsResources(gl->window);
         it = gl->meshes.erase(it);
       } else {
         ++it;
@@ -583,15 +629,20 @@ struct Renderer::Impl {
     vtkRenderer* ren = gl->renderer;
     std::vector<vtkActor*> actors(list.size());
     if (o.passes.rgb || o.passes.depth) {
-      std::transform(list.begin(), list.end(), actors.begin(),
-                     [](const DrawnEntry* e) { return e->colourActor(); });
+      actors.clear();
+      for (const DrawnEntry* e : list) {
+        actors.push_back(e->colourActor());
+        if (vtkActor* glow = e->glowActor())
+          actors.push_back(glow);
+      }
       show(actors);
       gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
       gl->lit->SetDiffuse(1.0 - lighting.ambient);
       gl->sun->SetPosition(lighting.sun_direction.data());
       gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
+      // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would
+      // draw every surface unlit, at its full colour.
       gl->sun->SetIntensity(lighting.sun_intensity);
-      gl->sun->SetSwitch(lighting.sun_intensity > 0.0);
       setSpots(lighting.spots, R);
       ren->GradientBackgroundOn();
       ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
@@ -621,6 +672,7 @@ struct Renderer::Impl {
       }
     }
     if (o.passes.semantic || o.passes.instance) {
+      actors.resize(list.size());
       std::transform(list.begin(), list.end(), actors.begin(),
                      [](const DrawnEntry* e) { return e->idActor(); });
       show(actors);

@@ -33,22 +33,34 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
       prototypes_.back().push_back(std::make_shared<const scene::Mesh>(std::move(mesh)));
     }
   }
-  auto signal = std::make_shared<scene::Mesh>();
-  signal->prototype = true;
-  signal->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
-  scene::addCylinder(*signal, {0, 0, -0.3f}, {0, 0, 4.6f}, 0.07f, 0.07f, 8);
-  signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
-  scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
-  // Three lamps, red over yellow over green, on the face the approaching train sees (−x: the
-  // signal's x runs along the track, the way the train goes).
-  const std::pair<float, scene::MaterialId> lamps[] = {{4.85f, scene::mat::kSignalLensRed},
-                                                       {4.55f, scene::mat::kSignalLensYellow},
-                                                       {4.25f, scene::mat::kSignalLensGreen}};
-  for (const auto& [z, lens] : lamps) {
-    signal->beginPart(scene::cls::kSignal, lens);
-    scene::addCylinder(*signal, {-0.15f, 0.0f, z}, {-0.19f, 0.0f, z}, 0.09f, 0.09f, 12);
+  // Signals: a post and a head with three lamps, red over yellow over green, on the face the
+  // approaching train sees (−x: the signal's x runs along the track, the way the train goes);
+  // one prototype per aspect, its lamp lit and the other two lenses dark.
+  for (const SignalAspect aspect :
+       {SignalAspect::kProceed, SignalAspect::kCaution, SignalAspect::kStop}) {
+    auto signal = std::make_shared<scene::Mesh>();
+    signal->prototype = true;
+    signal->beginPart(scene::cls::kPole, scene::mat::kGalvanisedSteel);
+    scene::addCylinder(*signal, {0, 0, -0.3f}, {0, 0, 4.6f}, 0.07f, 0.07f, 8);
+    signal->beginPart(scene::cls::kSignal, scene::mat::kPaintedMetal);
+    scene::addBox(*signal, {-0.15f, -0.18f, 4.0f}, {0.1f, 0.18f, 5.1f});
+    struct Lamp {
+      float z;
+      SignalAspect shows;
+      scene::MaterialId off, on;
+    };
+    constexpr Lamp kLamps[] = {
+        {4.85f, SignalAspect::kStop, scene::mat::kSignalLensRed, scene::mat::kSignalLampRed},
+        {4.55f, SignalAspect::kCaution, scene::mat::kSignalLensYellow,
+         scene::mat::kSignalLampYellow},
+        {4.25f, SignalAspect::kProceed, scene::mat::kSignalLensGreen,
+         scene::mat::kSignalLampGreen}};
+    for (const Lamp& lamp : kLamps) {
+      signal->beginPart(scene::cls::kSignal, lamp.shows == aspect ? lamp.on : lamp.off);
+      scene::addCylinder(*signal, {-0.15f, 0.0f, lamp.z}, {-0.19f, 0.0f, lamp.z}, 0.09f, 0.09f, 12);
+    }
+    signals_[static_cast<std::size_t>(aspect)] = std::move(signal);
   }
-  signal_ = std::move(signal);
   if (const track::EarthPlacement* earth = railway_->main().earth())
     anchor_.emplace(earth->anchor());
   const auto& tracks = railway_->layout().tracks;
@@ -57,6 +69,31 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
     if (tracks.size() > 1 && tracks[1].kind == track::TrackKind::kDouble)
       supports_[1] = detail::planSupports(*railway_, params_.assets, 1);
   }
+}
+
+std::string_view signalAspectName(SignalAspect aspect) {
+  switch (aspect) {
+    case SignalAspect::kProceed:
+      return "proceed";
+    case SignalAspect::kCaution:
+      return "caution";
+    case SignalAspect::kStop:
+      return "stop";
+  }
+  return "";
+}
+
+std::optional<SignalAspect> Environment::signalAspect(scene::InstanceId instance) const {
+  const std::optional<scene::TrackAsset> asset = scene::trackAsset(instance);
+  if (!asset || asset->kind != detail::kSignal)
+    return std::nullopt;
+  // One uniform per signal, keyed by its instance id: the same wherever and whenever it is made.
+  const double u = RandomStream(seed_, "environment/signals").uniform4(instance)[0];
+  const AssetParams& a = params_.assets;
+  const double stop = asset->track_id == 0 ? 0.0 : a.signal_stop;  // the train runs on track 0
+  if (u < stop)
+    return SignalAspect::kStop;
+  return u < stop + a.signal_caution ? SignalAspect::kCaution : SignalAspect::kProceed;
 }
 
 const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kind,

@@ -235,7 +235,6 @@ void addFencesAndSignals(TileContext& ctx) {
   // and for the double track on its right, facing the train.
   const bool has_double =
       layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
-  const auto& proto = ctx.env.signalPrototype();
   for (std::size_t i = 1; i < blocks.size(); ++i) {
     const double x = blocks[i].chainage_begin_m - 20.0;
     if (x < 0.0 || !inNear(x))
@@ -250,9 +249,10 @@ void addFencesAndSignals(TileContext& ctx) {
       const Eigen::Vector3d p = f.position + lateral * axes.col(1) - formation * axes.col(2);
       if (!ctx.owns(p))
         continue;
+      const scene::InstanceId instance = scene::trackAssetInstance(track_id, kSignal, blocks[i].id);
       ctx.tile.objects.push_back(
-          scene::Object::place(proto, p, axes.cast<float>(),
-                               scene::trackAssetInstance(track_id, kSignal, blocks[i].id)));
+          scene::Object::place(ctx.env.signalPrototype(*ctx.env.signalAspect(instance)), p,
+                               axes.cast<float>(), instance));
     }
   }
 }

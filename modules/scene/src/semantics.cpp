@@ -72,6 +72,8 @@ const std::vector<Material>& materialTable() {
             j.at("max_incidence_deg").template get<double>() * std::numbers::pi / 180.0;
         m.cos_max_incidence = std::cos(m.max_incidence_rad);
         m.colour = readRgb(j.at("colour"));
+        if (j.contains("emission"))
+          m.emission = readRgb(j.at("emission"));
         m.texture_contrast = j.at("texture_contrast").template get<double>();
         m.texture_size_m = j.at("texture_size_m").template get<double>();
         m.source = j.at("source").template get<std::string>();
@@ -119,6 +121,12 @@ InstanceId trackAssetInstance(int track_id, int kind, std::int64_t index) {
          ((static_cast<InstanceId>(track_id) & 0xFFFu) << 44) |
          ((static_cast<InstanceId>(kind) & 0xFFu) << 36) |
          (static_cast<InstanceId>(index) & 0xFFFFFFFFFull);
+}
+std::optional<TrackAsset> trackAsset(InstanceId id) {
+  if (instanceSource(id) != InstanceSource::kTrackAsset)
+    return std::nullopt;
+  return TrackAsset{static_cast<int>((id >> 44) & 0xFFFu), static_cast<int>((id >> 36) & 0xFFu),
+                    static_cast<std::int64_t>(id & 0xFFFFFFFFFull)};
 }
 InstanceId objectInstance(int tile_i, int tile_j, std::uint32_t index) {
   return (InstanceId{static_cast<std::uint8_t>(InstanceSource::kObject)} << 56) |

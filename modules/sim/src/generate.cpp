@@ -184,7 +184,11 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
     environment = makeEnvironment(*plan, scenario);
     stream = environment->environment->stream(kSceneStreamTiles);
     context.scene = stream.get();
-    context.instances = std::make_shared<InstanceTable>();
+    context.instances = std::make_shared<InstanceTable>(
+        [stage = environment](scene::InstanceId id) -> std::string_view {
+          const auto aspect = stage->environment->signalAspect(id);
+          return aspect ? environment::signalAspectName(*aspect) : std::string_view();
+        });
   }
   if (hasSensors(scenario.json(), "lidars"))
     context.rays = std::make_shared<lidar::RayWorld>();

@@ -23,7 +23,8 @@ std::uint16_t InstanceTable::id(scene::InstanceId instance, scene::ClassId cls) 
   const auto id = static_cast<std::uint16_t>(order_.size());
   ids_.emplace(instance, id);
   if (csv_ != nullptr)
-    csv_->write(fmt::format("{},{},{}\n", id, instance, scene::semanticClass(cls).name));
+    csv_->write(fmt::format("{},{},{},{}\n", id, instance, scene::semanticClass(cls).name,
+                            state_ ? state_(instance) : std::string_view()));
   return id;
 }
 
@@ -32,7 +33,7 @@ void InstanceTable::begin(io::DatasetWriter& writer, const nlohmann::json& state
   ids_.clear();
   order_.clear();
   if (state.is_null()) {
-    csv_->write("instance,scene_instance,class\n");
+    csv_->write("instance,scene_instance,class,state\n");
     return;
   }
   for (const nlohmann::json& v : state.at("instances")) {

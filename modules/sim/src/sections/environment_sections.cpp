@@ -141,7 +141,18 @@ const scenario::Section<environment::AssetParams>& assetsSection() {
     b.number("signal_offset_m", &A::signal_offset_m, kM,
              "Signal post from the outermost track centre")
         .range(2.2, 10);
+    b.number("signal_caution", &A::signal_caution, units::kNone,
+             "Share of signals showing caution (yellow lamp lit); the rest of the train's own "
+             "track show proceed (green)")
+        .range(0, 1);
+    b.number("signal_stop", &A::signal_stop, units::kNone,
+             "Share of signals of other tracks showing stop (red lamp lit); the train's own "
+             "track never shows stop")
+        .range(0, 1);
     b.check([](const A& a, const auto& at, std::vector<Problem>& out) {
+      if (a.signal_caution + a.signal_stop > 1.0)
+        out.push_back({at(a.signal_stop), "plus " + at(a.signal_caution) +
+                                              " must be at most 1 (the rest show proceed)"});
       if (a.mast_offset_m >= a.fence_offset_m)
         out.push_back(
             {at(a.fence_offset_m), "must lie beyond the masts (" + at(a.mast_offset_m) + ")"});

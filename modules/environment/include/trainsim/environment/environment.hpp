@@ -42,7 +42,18 @@ struct AssetParams {
   double fence_probability = 0.3;  ///< per main block and side
   double fence_offset_m = 5.0;     ///< from the outermost track centre
   double signal_offset_m = 2.6;    ///< signal post from the outermost track centre
+  /// Shares of the signals showing caution (yellow), and, on tracks the train does not run on,
+  /// stop (red); the rest show proceed (green). The train's own track never shows stop: the
+  /// train would pass it at danger.
+  double signal_caution = 0.3;
+  double signal_stop = 0.3;
 };
+
+/// What a colour-light signal shows the approaching train, one lamp lit: a pure function of
+/// (seed, the signal's instance id), the same over the whole run.
+enum class SignalAspect : std::uint8_t { kProceed, kCaution, kStop };
+/// "proceed", "caution" or "stop".
+std::string_view signalAspectName(SignalAspect aspect);
 
 /// Density and spacing of one kind of trackside object.
 struct ObjectKindParams {
@@ -128,8 +139,14 @@ class Environment {
   /// The catenary supports of track 0 (main) or 1 (double), in chainage order (empty without a
   /// catenary): O(route / span) numbers, planned once.
   const std::vector<CatenarySupport>& supports(int track) const { return supports_.at(track); }
-  /// The shared signal (post and head) placed at every signal.
-  const std::shared_ptr<const scene::Mesh>& signalPrototype() const { return signal_; }
+  /// The shared signal (post and head) showing `aspect`: its lamp lit (an emitting material),
+  /// the other two lenses dark.
+  const std::shared_ptr<const scene::Mesh>& signalPrototype(SignalAspect aspect) const {
+    return signals_.at(static_cast<std::size_t>(aspect));
+  }
+  /// The aspect of the signal with this instance id (AssetParams::signal_caution and
+  /// signal_stop); nothing for an id that is no signal's.
+  std::optional<SignalAspect> signalAspect(scene::InstanceId instance) const;
   /// The shared prototype of an object kind's variant.
   const std::shared_ptr<const scene::Mesh>& prototype(std::size_t kind, int variant) const;
 
@@ -140,7 +157,7 @@ class Environment {
   terrain::Terrain terrain_;
   scene::MaterialId ballast_material_, ground_material_;
   std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
-  std::shared_ptr<const scene::Mesh> signal_;
+  std::array<std::shared_ptr<const scene::Mesh>, 3> signals_;  // by SignalAspect
   std::array<std::vector<CatenarySupport>, 2> supports_;
   std::optional<GeodeticAnchor> anchor_;  // the Earth the track was laid on, if it was
 };

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -40,9 +41,13 @@ struct Material {
   double max_incidence_rad = 0.0;
   double cos_max_incidence = 1.0;  ///< its cosine, for the LiDAR's per-return test
   Rgb colour{};
+  /// A light source's colour (sRGB), drawn as it is whatever the lighting: a signal's lit lamp.
+  /// Black for every surface that only reflects.
+  Rgb emission{};
   double texture_contrast = 0.0;
   double texture_size_m = 1.0;
   std::string source;
+  bool emits() const { return emission != Rgb{}; }
 };
 
 /// The class table, read once from the embedded resources/classes.json (ids dense from 0).
@@ -72,7 +77,8 @@ inline constexpr MaterialId kNone = 0, kRailHead = 1, kRailWeb = 2, kConcrete = 
                             kSoil = 8, kLeaves = 9, kNeedles = 10, kBark = 11, kRock = 12,
                             kBrick = 13, kPlaster = 14, kRoofTile = 15, kGalvanisedSteel = 16,
                             kCopper = 17, kAsphalt = 18, kPaintedMetal = 19, kRetroreflector = 20,
-                            kSignalLensRed = 21, kSignalLensYellow = 22, kSignalLensGreen = 23;
+                            kSignalLensRed = 21, kSignalLensYellow = 22, kSignalLensGreen = 23,
+                            kSignalLampRed = 24, kSignalLampYellow = 25, kSignalLampGreen = 26;
 }  // namespace mat
 
 /// What made an object, the top byte of its instance id.
@@ -86,5 +92,13 @@ InstanceId trackAssetInstance(int track_id, int kind, std::int64_t index);
 /// A trackside object's instance id: source | tile i (16 bits) | tile j (16 bits) | index (24).
 InstanceId objectInstance(int tile_i, int tile_j, std::uint32_t index);
 InstanceSource instanceSource(InstanceId id);
+/// What trackAssetInstance() put into an id.
+struct TrackAsset {
+  int track_id = 0;
+  int kind = 0;
+  std::int64_t index = 0;
+};
+/// The track asset an id names; nothing for an id of another source.
+std::optional<TrackAsset> trackAsset(InstanceId id);
 
 }  // namespace trainsim::scene

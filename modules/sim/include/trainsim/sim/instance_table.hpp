@@ -1,8 +1,10 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -20,14 +22,20 @@ namespace trainsim::sim {
 /// thread count), and every perception sensor of the run shares it, so an object has one id in
 /// every LiDAR's labels and every camera's instance image. Each new id is appended to
 /// instances.csv (id, the scene's instance id as objects.csv lists it, the class it was first
-/// seen as: a tree's crown and trunk, a signal's post and head share one id), and the table is
-/// checkpointed, so a resumed run numbers on exactly as the killed one would have.
+/// seen as: a tree's crown and trunk, a signal's post and head share one id; and its state, what
+/// the object shows if it shows anything: a signal's aspect), and the table is checkpointed, so a
+/// resumed run numbers on exactly as the killed one would have.
 ///
 /// Past 65535 objects in one sequence the ids run out: further objects share 65535, and the
 /// run says so once.
 class InstanceTable {
  public:
   static constexpr std::uint16_t kOverflow = 0xFFFF;
+  /// What an object shows (instances.csv's `state`: a signal's "proceed", "caution" or "stop"),
+  /// empty for most.
+  using StateOf = std::function<std::string_view(scene::InstanceId)>;
+
+  explicit InstanceTable(StateOf state = {}) : state_(std::move(state)) {}
 
   /// The id of `instance` (a thing of class `cls`); 0 for 0. Call from commit() only.
   std::uint16_t id(scene::InstanceId instance, scene::ClassId cls);
@@ -40,6 +48,7 @@ class InstanceTable {
  private:
   std::map<scene::InstanceId, std::uint16_t> ids_;
   std::vector<scene::InstanceId> order_;  // order_[i] has id i + 1
+  StateOf state_;
   io::AppendFile* csv_ = nullptr;
   bool warned_ = false;
 };
