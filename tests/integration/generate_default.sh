@@ -119,10 +119,10 @@ sys.path.insert(0, os.environ.get("TESTS_DIR", "."))
 from kitti_read import read_png
 seq = sys.argv[1]
 lines = open(os.path.join(seq, "instances.csv")).read().splitlines()
-assert lines[0] == "instance,scene_instance,class,state", lines[0]
+assert lines[0] == "instance,scene_instance,class,track,state", lines[0]
 aspects = {}
 for line in lines[1:]:
-    instance, scene, cls, state = line.split(",")
+    instance, scene, cls, track, state = line.split(",")
     scene = int(scene)
     signal = scene >> 56 == 1 and (scene >> 36) & 0xFF == 12  # a track asset of kind signal
     assert (state in ("proceed", "caution", "stop")) == signal and (state == "") != signal, line
@@ -160,6 +160,33 @@ for frame in frames[::3]:
         checked[aspects[i]] = checked.get(aspects[i], 0) + 1
 assert len(checked) == 3, checked
 print(checked)
+PY
+# Track discrimination: instances.csv gives each rail's layout track, and the LiDAR's rail points
+# 5-15 m ahead lie within 1 m of the sensor's axis exactly when their rail is the train's own
+# track 0 (the others are 4 m and more to the side).
+python3 - "$WORK/t1/sequences/00" "$WORK/rails.txt" <<'PY' && pass "rails of the train's own track: $(cat "$WORK/rails.txt")" || fail "rails' tracks"
+import os, sys
+sys.path.insert(0, os.environ.get("TESTS_DIR", "."))
+from kitti_read import read_labels, read_velodyne
+seq = sys.argv[1]
+track = {}
+for line in open(os.path.join(seq, "instances.csv")).read().splitlines()[1:]:
+    instance, scene, cls, on, state = line.split(",")
+    if cls == "rail":
+        track[int(instance)] = int(on)
+assert 0 in track.values() and len(set(track.values())) > 1, track
+near = {True: 0, False: 0}
+for frame in sorted(os.listdir(os.path.join(seq, "velodyne")))[::10]:
+    points = read_velodyne(os.path.join(seq, "velodyne", frame))
+    labels = read_labels(os.path.join(seq, "labels", frame[:-4] + ".label"))
+    for (x, y, z, _), label in zip(points, labels):
+        if label & 0xFFFF != 1 or not 5.0 < x < 15.0:
+            continue
+        ego = track[label >> 16] == 0
+        assert (abs(y) < 1.0) == ego, (frame, x, y, z, track[label >> 16])
+        near[ego] += 1
+assert near[True] > 100 and near[False] > 100, near
+print(f"{near[True]} points on it, {near[False]} on other tracks", file=open(sys.argv[2], "w"))
 PY
 # A different seed is a different run.
 expect_exit 0 "generate --seed 7" -- "$TRAINSIM" generate "$WORK/short.json" --out "$WORK/d" --seed 7

@@ -22,9 +22,12 @@ std::uint16_t InstanceTable::id(scene::InstanceId instance, scene::ClassId cls) 
   order_.push_back(instance);
   const auto id = static_cast<std::uint16_t>(order_.size());
   ids_.emplace(instance, id);
-  if (csv_ != nullptr)
-    csv_->write(fmt::format("{},{},{},{}\n", id, instance, scene::semanticClass(cls).name,
+  if (csv_ != nullptr) {
+    const std::optional<scene::TrackAsset> asset = scene::trackAsset(instance);
+    csv_->write(fmt::format("{},{},{},{},{}\n", id, instance, scene::semanticClass(cls).name,
+                            asset ? fmt::format("{}", asset->track_id) : std::string(),
                             state_ ? state_(instance) : std::string_view()));
+  }
   return id;
 }
 
@@ -33,7 +36,7 @@ void InstanceTable::begin(io::DatasetWriter& writer, const nlohmann::json& state
   ids_.clear();
   order_.clear();
   if (state.is_null()) {
-    csv_->write("instance,scene_instance,class,state\n");
+    csv_->write("instance,scene_instance,class,track,state\n");
     return;
   }
   for (const nlohmann::json& v : state.at("instances")) {

@@ -22,9 +22,10 @@ namespace trainsim::sim {
 /// thread count), and every perception sensor of the run shares it, so an object has one id in
 /// every LiDAR's labels and every camera's instance image. Each new id is appended to
 /// instances.csv (id, the scene's instance id as objects.csv lists it, the class it was first
-/// seen as: a tree's crown and trunk, a signal's post and head share one id; and its state, what
-/// the object shows if it shows anything: a signal's aspect), and the table is checkpointed, so a
-/// resumed run numbers on exactly as the killed one would have.
+/// seen as: a tree's crown and trunk, a signal's post and head share one id; the layout track a
+/// track asset belongs to, so the rails of the train's own track 0 can be told from the others;
+/// and its state, what the object shows if it shows anything: a signal's aspect), and the table
+/// is checkpointed, so a resumed run numbers on exactly as the killed one would have.
 ///
 /// Past 65535 objects in one sequence the ids run out: further objects share 65535, and the
 /// run says so once.
