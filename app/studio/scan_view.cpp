@@ -18,10 +18,12 @@
 #include <QComboBox>
 #include <QDir>
 #include <QEvent>
+#include <QFile>
 #include <QFileInfo>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QMouseEvent>
 #include <QPixmap>
 #include <QSlider>
 #include <QSpinBox>
@@ -31,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -167,10 +170,54 @@ std::optional<camera::KittiProjection> pairProjection(const io::KittiCalib& cali
   return out;
 }
 
+// One row of instances.csv: what an instance id stands for.
+struct InstanceRow {
+  QString cls, track, state;
+};
+
+// instances.csv by instance id (older datasets have fewer columns: those missing stay empty);
+// empty when there is none.
+std::map<int, InstanceRow> readInstances(const QString& path) {
+  std::map<int, InstanceRow> out;
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly | QIODevice::Text))
+    return out;
+  const QStringList header = QString::fromUtf8(file.readLine()).trimmed().split(',');
+  const auto column = [&](const char* name) { return header.indexOf(name); };
+  const int id = column("instance"), cls = column("class"), track = column("track"),
+            state = column("state");
+  while (!file.atEnd()) {
+    const QStringList cells = QString::fromUtf8(file.readLine()).trimmed().split(',');
+    const auto cell = [&](int i) { return i >= 0 && i < cells.size() ? cells[i] : QString(); };
+    bool ok = false;
+    const int key = cell(id).toInt(&ok);
+    if (ok)
+      out[key] = {cell(cls), cell(track), cell(state)};
+  }
+  return out;
+}
+
+// The frame's images of one camera that a pixel's description reads, loaded on first use.
+struct PixelImages {
+  int frame = -1, camera = -1;
+  std::optional<io::PngImage> semantic, instance, depth;
+};
+
+std::optional<io::PngImage> readPng(const QString& path) {
+  try {
+    return io::decodePng(io::readFile(path.toStdString()));
+  } catch (const std::exception&) {
+    return std::nullopt;  // that output is off, or the file is unreadable: not described
+  }
+}
+
 }  // namespace
 
 struct ScanView::Impl {
-  QString sequence;  // absolute path of sequences/NN
+  QString sequence;                      // absolute path of sequences/NN
+  std::map<int, InstanceRow> instances;  // instances.csv
+  mutable PixelImages pixel_images;      // the frame's images describePixel() reads
+  QString pixel;                         // the last click's description, in the status line
   QStringList lidars, cameras;
   int frames = 0, frame = 0, lidar = 0, camera = 0;
   Colour colour = Colour::kClass;
@@ -318,6 +365,9 @@ bool ScanView::setDataset(const QString& root) {
       d_->overlay_problem = QString::fromUtf8(e.what());
     }
   }
+  d_->instances =
+      readInstances(sequence.filePath(QString::fromUtf8(io::DatasetLayout::kInstances)));
+  d_->pixel_images = {};
   d_->frame = d_->lidar = d_->camera = 0;
   d_->camera_placed = false;
   for (QComboBox* box : {d_->lidar_box, d_->camera_box})
@@ -495,6 +545,7 @@ void ScanView::loadScan() {
 void ScanView::loadPicture() {
   d_->base = QImage();
   d_->picture_problem.clear();
+  d_->pixel.clear();
   if (!d_->cameras.isEmpty()) {
     const std::string folder[] = {
         io::DatasetLayout::imageFolder(d_->camera), io::DatasetLayout::semanticFolder(d_->camera),
@@ -579,6 +630,8 @@ void ScanView::showStatus() {
   for (const QString& problem : problems)
     if (!problem.isEmpty())
       text += " — " + problem;
+  if (!d_->pixel.isEmpty())
+    text += " — " + d_->pixel;
   d_->status->setText(text);
 }
 
@@ -643,7 +696,62 @@ void ScanView::showPicture() {
 bool ScanView::eventFilter(QObject* watched, QEvent* event) {
   if (watched == d_->image && event->type() == QEvent::Resize)
     showPicture();  // the picture follows its pane when the splitters move
+  if (watched == d_->image && event->type() == QEvent::MouseButtonPress && !d_->picture.isNull()) {
+    // From the label's point to the picture's pixel: the picture is scaled to fit, centred.
+    const QSize shown = d_->picture.size().scaled(d_->image->size(), Qt::KeepAspectRatio);
+    const QPointF at = static_cast<QMouseEvent*>(event)->localPos() -
+                       QPointF((d_->image->width() - shown.width()) / 2.0,
+                               (d_->image->height() - shown.height()) / 2.0);
+    const double scale = static_cast<double>(d_->picture.width()) / shown.width();
+    d_->pixel = describePixel(static_cast<int>(std::floor(at.x() * scale)),
+                              static_cast<int>(std::floor(at.y() * scale)));
+    showStatus();
+  }
   return QWidget::eventFilter(watched, event);
+}
+
+QString ScanView::describePixel(int u, int v) const {
+  if (d_->cameras.isEmpty() || d_->picture.isNull() || u < 0 || v < 0 || u >= d_->picture.width() ||
+      v >= d_->picture.height())
+    return {};
+  PixelImages& images = d_->pixel_images;
+  if (images.frame != d_->frame || images.camera != d_->camera) {
+    images = {d_->frame, d_->camera,
+              readPng(frameFile(io::DatasetLayout::semanticFolder(d_->camera), "png")),
+              readPng(frameFile(io::DatasetLayout::instanceFolder(d_->camera), "png")),
+              readPng(frameFile(io::DatasetLayout::depthFolder(d_->camera), "png"))};
+  }
+  const auto sample = [&](const std::optional<io::PngImage>& png,
+                          int depth) -> std::optional<std::uint32_t> {
+    if (!png || png->width != d_->picture.width() || png->height != d_->picture.height() ||
+        png->channels != 1 || png->depth != depth)
+      return std::nullopt;
+    const std::size_t i = static_cast<std::size_t>(v) * png->width + u;
+    return depth == 8 ? png->samples8[i] : png->samples16[i];
+  };
+  QStringList parts;
+  if (const auto cls = sample(images.semantic, 8)) {
+    const auto& classes = scene::classes();
+    parts << (*cls < classes.size() ? QString::fromStdString(classes[*cls].name)
+                                    : QString("class %1").arg(*cls));
+  }
+  if (const auto id = sample(images.instance, 16); id && *id != 0) {
+    QString text = QString("instance %1").arg(*id);
+    if (const auto row = d_->instances.find(static_cast<int>(*id)); row != d_->instances.end()) {
+      QStringList about;
+      if (!row->second.track.isEmpty())
+        about << "track " + row->second.track;
+      if (!row->second.state.isEmpty())
+        about << row->second.state;
+      if (!about.isEmpty())
+        text += " (" + about.join(", ") + ")";
+    }
+    parts << text;
+  }
+  if (const auto depth = sample(images.depth, 16))
+    parts << (*depth == 0 ? QString("no depth")
+                          : QString("%1 m").arg(*depth / 256.0, 0, 'f', 2));  // KITTI: m × 256
+  return QString("pixel (%1, %2)").arg(u).arg(v) + (parts.isEmpty() ? "" : ": " + parts.join(", "));
 }
 
 int ScanView::frameCount() const {

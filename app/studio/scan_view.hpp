@@ -21,7 +21,7 @@ namespace trainsim::studio {
 /// calib.txt (Tr or Tr_N into camera 0's frame, then the camera's P and its lens's D), in the
 /// colours the scan is drawn in. Files that disagree (a .label whose length is not the .bin's,
 /// a calib.txt without the lines the pair needs) are reported in the view's status line, not
-/// drawn.
+/// drawn. A click on the picture says what is there (describePixel()).
 class ScanView : public QWidget {
   Q_OBJECT
 
@@ -66,6 +66,11 @@ class ScanView : public QWidget {
   /// The camera picture shown (null when the frame has none), and the status line.
   QImage picture() const;
   QString status() const;
+  /// What the shown camera saw at pixel (u, v) of the frame, from its semantic, instance and
+  /// depth images and instances.csv (those of them the dataset has): the class, the object's
+  /// instance id with its track and state (a signal's aspect), the depth. Empty outside the
+  /// picture. A click on the picture puts it in the status line.
+  QString describePixel(int u, int v) const;
   /// The rendered point cloud (for screenshots).
   QImage grabImage();
 

@@ -17,6 +17,7 @@
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSignalSpy>
 #include <QSpinBox>
 #include <QSurfaceFormat>
@@ -496,6 +497,104 @@ class StudioGuiTest : public QObject {
     QVERIFY(changed > static_cast<int>(points.size()));
     overlay->setChecked(false);
     QCOMPARE(view->picture(), plain);
+  }
+
+  // A click on the picture says what the camera saw there: the class, the instance with its
+  // track and state from instances.csv (a signal's aspect), the depth; read here from the PNGs
+  // and instances.csv on their own.
+  void aClickOnThePictureSaysWhatIsThere() {
+    using trainsim::studio::ScanView;
+    ScanView* view = window_->scans();
+    const QString seq = tmp_.filePath("run") + "/sequences/00";
+    view->findChild<QComboBox*>("scanPicture")->setCurrentIndex(0);  // RGB
+    QFile csv(seq + "/instances.csv");
+    QVERIFY(csv.open(QIODevice::ReadOnly | QIODevice::Text));
+    QCOMPARE(QString::fromUtf8(csv.readLine()).trimmed(),
+             QString("instance,scene_instance,class,track,state"));
+    std::map<int, QStringList> rows;
+    while (!csv.atEnd()) {
+      const QStringList cells = QString::fromUtf8(csv.readLine()).trimmed().split(',');
+      rows[cells[0].toInt()] = cells;
+    }
+    // The first frame with a signal within the depth images' reach, at a pixel inside it (its
+    // 5 × 5 pixels the same signal: a click on the picture, scaled down to its pane, cannot
+    // hit one pixel exactly); failing that, a rail (a track, no state).
+    int frame = -1, u = 0, v = 0;
+    for (const bool signal : {true, false}) {
+      for (int f = 0; f < view->frameCount() && frame < 0; ++f) {
+        const QString name = QString("/%1.png").arg(f, 6, 10, QChar('0'));
+        const QImage ids(seq + "/instance_2" + name), depths(seq + "/depth_2" + name);
+        const auto id = [&](int i, int j) {
+          return static_cast<int>(reinterpret_cast<const quint16*>(ids.constScanLine(j))[i]);
+        };
+        for (int j = 1; j + 1 < ids.height() && frame < 0; ++j)
+          for (int i = 1; i + 1 < ids.width() && frame < 0; ++i) {
+            const auto row = rows.find(id(i, j));
+            if (row == rows.end() || row->second.size() < 5 || row->second[3].isEmpty() ||
+                row->second[4].isEmpty() == signal ||
+                reinterpret_cast<const quint16*>(depths.constScanLine(j))[i] == 0)
+              continue;
+            bool inside = j >= 2 && i >= 2 && j + 2 < ids.height() && i + 2 < ids.width();
+            for (int dj = -2; dj <= 2 && inside; ++dj)
+              for (int di = -2; di <= 2; ++di)
+                inside = inside && id(i + di, j + dj) == id(i, j);
+            if (inside) {
+              frame = f;
+              u = i;
+              v = j;
+            }
+          }
+      }
+      if (frame >= 0)
+        break;
+    }
+    QVERIFY2(frame >= 0, "no signal or rail in any picture of the run");
+    view->findChild<QSpinBox*>("scanFrame")->setValue(frame);
+    const QString name = QString("/%1.png").arg(frame, 6, 10, QChar('0'));
+    const QImage cls(seq + "/semantic_2" + name), ids(seq + "/instance_2" + name),
+        depth(seq + "/depth_2" + name);
+    const int id = reinterpret_cast<const quint16*>(ids.constScanLine(v))[u];
+    const quint16 d = reinterpret_cast<const quint16*>(depth.constScanLine(v))[u];
+    const QStringList& row = rows.at(id);
+    QString about = "track " + row[3];
+    if (!row[4].isEmpty())
+      about += ", " + row[4];
+    const QString expected =
+        QString("pixel (%1, %2): %3, instance %4 (%5), %6 m")
+            .arg(u)
+            .arg(v)
+            .arg(QString::fromStdString(trainsim::scene::classes()[qGray(cls.pixel(u, v))].name))
+            .arg(id)
+            .arg(about)
+            .arg(d / 256.0, 0, 'f', 2);
+    QCOMPARE(view->describePixel(u, v), expected);
+    qInfo("frame %d: %s", frame, qPrintable(expected));
+    QVERIFY(view->describePixel(-1, v).isEmpty());
+    QVERIFY(view->describePixel(u, view->picture().height()).isEmpty());
+
+    // A click at that pixel's centre on the scaled picture puts it in the status line.
+    auto* label = view->findChild<QLabel*>("scanImage");
+    const QImage picture = view->picture();
+    const QSize shown = picture.size().scaled(label->size(), Qt::KeepAspectRatio);
+    const double scale = static_cast<double>(shown.width()) / picture.width();
+    const QPoint at(
+        static_cast<int>(std::lround((label->width() - shown.width()) / 2.0 + (u + 0.5) * scale)),
+        static_cast<int>(
+            std::lround((label->height() - shown.height()) / 2.0 + (v + 0.5) * scale)));
+    QTest::mouseClick(label, Qt::LeftButton, Qt::NoModifier, at);
+    // The pixel under the click, to within the pane's resolution (a pane pixel covers
+    // 1 / scale picture pixels), described as describePixel() does: the same signal.
+    const QString status = view->status();
+    const QRegularExpression pixel(R"(pixel \((\d+), (\d+)\))");
+    const QRegularExpressionMatch m = pixel.match(status);
+    QVERIFY2(m.hasMatch(), qPrintable(status));
+    const int a = m.captured(1).toInt(), b = m.captured(2).toInt();
+    QVERIFY2(std::abs(a - u) <= 2 && std::abs(b - v) <= 2 && scale > 0.4, qPrintable(status));
+    QVERIFY2(status.endsWith(view->describePixel(a, b)), qPrintable(status));
+    QVERIFY2(status.contains(QString("instance %1 (%2)").arg(id).arg(about)), qPrintable(status));
+    // Another frame clears it.
+    view->findChild<QSpinBox*>("scanFrame")->setValue(frame == 0 ? 1 : 0);
+    QVERIFY(!view->status().contains("pixel ("));
   }
 
   // The Scene tab shows the tiles the environment streams around a chainage: every triangle of
