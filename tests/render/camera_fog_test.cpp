@@ -33,10 +33,18 @@ std::string fileBytes(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
+// By day the fog is light grey; at night it is lit as the scene is, dark (its colour read from
+// the sky's pixels, pure fog), and the same blend holds.
+class CameraFog : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLight) {
   constexpr double kVisibility = 150.0;
-  const scenario::Json camera = {
-      {"width", 200}, {"height", 64}, {"period_ns", 1'000'000'000}, {"depth_float", true}};
+  const bool night = std::string(GetParam()) == "night";
+  const scenario::Json camera = {{"width", 200},
+                                 {"height", 64},
+                                 {"period_ns", 1'000'000'000},
+                                 {"depth_float", true},
+                                 {"daytime", GetParam()}};
   scenario::Json foggy = camera;
   foggy["fog_visibility_m"] = kVisibility;
   const scenario::Json input = {
@@ -44,7 +52,8 @@ TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
       {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
       {"dataset", {{"frame_period_ns", 1'000'000'000}}},
       {"sensors", {{"cameras", {camera, foggy}}}}};
-  const fs::path out = fs::temp_directory_path() / fmt::format("trainsim_fog_{}", ::getpid());
+  const fs::path out =
+      fs::temp_directory_path() / fmt::format("trainsim_fog_{}_{}", GetParam(), ::getpid());
   fs::remove_all(out);
   GenerateOptions options;
   options.out = out;
@@ -93,7 +102,30 @@ TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
   fs::remove_all(out);
   ASSERT_GT(fx, 0.0);
   ASSERT_EQ(clear.samples8.size(), fog.samples8.size());
-  const std::uint8_t kFog[3] = {200, 204, 208};
+  // The fog's colour: by day the renderer's light grey, at night that of the sky's pixels (no
+  // range: all fog), which must be one dark colour.
+  std::array<std::uint8_t, 3> kFog = {200, 204, 208};
+  if (night) {
+    bool first = true;
+    for (int v = 0; v < clear.height; ++v)
+      for (int u = 0; u < clear.width; ++u) {
+        if (depthAt(u, v) > 0.0)
+          continue;
+        const std::size_t i = static_cast<std::size_t>(v) * clear.width + u;
+        for (std::size_t ch = 0; ch < 3; ++ch) {
+          const auto c = static_cast<std::uint8_t>(fog.samples8[3 * i + ch]);
+          if (first)
+            kFog[ch] = c;
+          ASSERT_EQ(c, kFog[ch]) << "sky pixel " << u << ", " << v;
+        }
+        first = false;
+      }
+    ASSERT_FALSE(first);
+    for (const std::uint8_t c : kFog) {
+      EXPECT_GT(c, 10);
+      EXPECT_LT(c, 80);  // the day's fog is 200-208
+    }
+  }
   int ground = 0, sky = 0;
   for (int v = 0; v < clear.height; ++v)
     for (int u = 0; u < clear.width; ++u) {
@@ -116,6 +148,8 @@ TEST(CameraFog, ColoursFollowKoschmiederInLinearLight) {
   EXPECT_GT(ground, 1000);
   EXPECT_GT(sky, 1000);
 }
+
+INSTANTIATE_TEST_SUITE_P(DayAndNight, CameraFog, ::testing::Values("noon", "night"));
 
 // A camera 1 m above the middle of the roof looking back and 30° down sees the train's body
 // (train.body) where the roof is: unlabelled, no instance, at the depth the roof plane has,

@@ -395,5 +395,34 @@ TEST(CameraRender, ALitSignalLampShowsItsEmissionColourWhateverTheLightAndKeepsI
   }
 }
 
+TEST(CameraRender, AWireIsShadedByTheLightOfTheSceneNotDrawnAtItsFullColour) {
+  // The signal scene's wire (copper) runs 5.5 m up across the view: by day it is shaded by the
+  // sky's light and half the sun's, at night (no sun, no lamps) it is nearly black.
+  const Eigen::Vector3d O(0.0, 0.0, 0.0);
+  const SignalScene s = signals(O);
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  const camera::Renderer renderer(o);
+  const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.5));
+  camera::Lighting noon, night;
+  night.sun_intensity = 0.0;
+  night.ambient = 0.02;
+  const camera::CameraImages day = renderer.render({{s.tile}}, T, noon);
+  const camera::CameraImages dark = renderer.render({{s.tile}}, T, night);
+  const scene::Rgb copper = scene::material(scene::mat::kCopper).colour;
+  const double shade = noon.ambient + 0.5 * (1.0 - noon.ambient) * noon.sun_intensity;
+  int wire = 0;
+  for (std::size_t i = 0; i < day.semantic.size(); ++i) {
+    if (day.semantic[i] != scene::cls::kWire)
+      continue;
+    ++wire;
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_NEAR(day.rgb[3 * i + ch], shade * copper[ch], 1.0) << i;
+      EXPECT_LE(dark.rgb[3 * i + ch], std::lround(0.02 * copper[ch]) + 1) << i;
+    }
+  }
+  EXPECT_GT(wire, 20);
+}
+
 }  // namespace
 }  // namespace trainsim

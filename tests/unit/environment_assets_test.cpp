@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -350,6 +351,69 @@ TEST(Assets, SignalsShowOneLitAspectThatTheTrainsOwnTrackNeverSetsAtStop) {
     EXPECT_NEAR(share(environment::SignalAspect::kCaution), 0.25, 0.014) << track;
     EXPECT_NEAR(share(environment::SignalAspect::kProceed), 1.0 - 0.25 - stop, 0.014) << track;
   }
+}
+
+TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot) {
+  // trackOf: a rail, a mast, a wire or a signal is its layout track's (a mast or a signal stands
+  // nearer to it than to the other of the main and double track; beyond the outermost track,
+  // so an auxiliary track can lie between); platforms, tunnels, bridges and fences have none.
+  const World& w = defaultWorld();
+  const auto segments = allSegments(w);
+  const auto nearestTrack = [&](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity();
+    int track = -1;
+    for (const Segment& s : segments) {
+      if (s.track > 1)
+        continue;  // only the main and double track have masts and signals
+      const Eigen::Vector2d u = (s.b - s.a).head<2>();
+      const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
+      const double d = (p.head<2>() - s.a.head<2>() - t * u).norm();
+      if (d < best) {
+        best = d;
+        track = s.track;
+      }
+    }
+    return track;
+  };
+  std::map<int, int> checked;  // by asset kind
+  for (const auto& tile : allTiles()) {
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset)
+        continue;
+      const std::optional<int> track = w.env().trackOf(o.instance);
+      const bool by_the_line = asset->kind >= 7 && asset->kind <= 11;
+      ASSERT_EQ(track.has_value(), !by_the_line) << asset->kind;
+      if (track)
+        ASSERT_EQ(*track, asset->track_id);
+      if (asset->kind == 3 || asset->kind == 12) {
+        // A mast's or a signal's foot (its vertices within 1 m of its lowest: the cantilevers
+        // reach over the tracks) is nearest to its own track.
+        double low = std::numeric_limits<double>::infinity();
+        for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v)
+          low = std::min(low, o.worldVertex(v).z());
+        std::map<int, int> votes;
+        for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v)
+          if (const Eigen::Vector3d p = o.worldVertex(v); p.z() < low + 1.0)
+            ++votes[nearestTrack(p)];
+        EXPECT_EQ(votes.size(), 1u) << asset->kind;
+        EXPECT_EQ(votes.begin()->first, *track) << asset->kind << " at " << o.position.transpose();
+      }
+      ++checked[asset->kind];
+    }
+    for (const auto& wire : tile->wires) {
+      const auto asset = scene::trackAsset(wire.instance);
+      ASSERT_TRUE(asset.has_value());
+      const std::optional<int> track = w.env().trackOf(wire.instance);
+      ASSERT_EQ(track.has_value(), asset->kind != 11) << asset->kind;  // fences' wires: none
+      if (track)
+        ASSERT_EQ(*track, asset->track_id);
+      ++checked[asset->kind];
+    }
+  }
+  for (const int kind : {1, 2, 3, 4, 5, 12, 7, 9, 10, 11})
+    EXPECT_GT(checked[kind], 0) << "no asset of kind " << kind;
+  EXPECT_FALSE(w.env().trackOf(scene::objectInstance(1, 2, 3)).has_value());
 }
 
 }  // namespace

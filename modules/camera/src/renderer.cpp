@@ -330,8 +330,9 @@ struct Renderer::Impl {
     vtkNew<vtkRenderer> renderer;
     vtkNew<vtkLight> sun;
     std::vector<vtkSmartPointer<vtkLight>> spots;  // as many as a render has asked for
-    // The colour pass's, the id pass's and the colour pass's for what emits light (see actor()).
-    vtkNew<vtkProperty> lit, unlit, glow;
+    // The colour pass's, the id pass's, and the colour pass's for what emits light and for
+    // wires (see actor() and render()).
+    vtkNew<vtkProperty> lit, unlit, glow, wire;
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
     std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
@@ -365,12 +366,14 @@ struct Renderer::Impl {
     gl->sun->SetLightTypeToSceneLight();
     gl->sun->SetPositional(false);
     gl->renderer->AddLight(gl->sun);
-    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get()}) {
+    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get(), gl->wire.Get()}) {
       p->SetInterpolationToFlat();
       p->SetSpecular(0.0);
     }
     gl->unlit->LightingOff();  // the id pass: the colour exactly as given
     gl->glow->LightingOff();   // a lamp: its emission colour whatever the lights
+    gl->wire->LightingOff();   // shaded by one factor per render (render())
+    gl->wire->SetDiffuse(0.0);
     vtkCamera* cam = gl->renderer->GetActiveCamera();
     cam->SetPosition(0.0, 0.0, 0.0);
     cam->SetClippingRange(o.near_m, o.far_m);
@@ -485,7 +488,7 @@ struct Renderer::Impl {
     DrawnEntry& e = entry(key, tile);
     if (!e.colour[0]) {
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
-      e.colour[0] = actor(colourMapper(poly, "albedo"), gl->lit);
+      e.colour[0] = actor(colourMapper(poly, "albedo"), gl->wire);
       e.id[0] = actor(colourMapper(poly, "id"), gl->unlit);
     }
     return e;
@@ -638,6 +641,11 @@ struct Renderer::Impl {
       show(actors);
       gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
       gl->lit->SetDiffuse(1.0 - lighting.ambient);
+      // A wire is a line, which has no normal for VTK to light: it is shaded by one factor, the
+      // sky's light and half the sun's (the mean over a thin cylinder's faces, roughly), so it
+      // is dark at night instead of drawn at its full colour.
+      gl->wire->SetAmbient(lighting.ambient +
+                           0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
       gl->sun->SetPosition(lighting.sun_direction.data());
       gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
       // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would

@@ -96,6 +96,24 @@ std::optional<SignalAspect> Environment::signalAspect(scene::InstanceId instance
   return u < stop + a.signal_caution ? SignalAspect::kCaution : SignalAspect::kProceed;
 }
 
+std::optional<int> Environment::trackOf(scene::InstanceId instance) const {
+  const std::optional<scene::TrackAsset> asset = scene::trackAsset(instance);
+  if (!asset)
+    return std::nullopt;
+  switch (asset->kind) {
+    case detail::kRailLeft:
+    case detail::kRailRight:
+    case detail::kMast:
+    case detail::kContactWire:
+    case detail::kMessenger:
+    case detail::kDropper:
+    case detail::kSignal:
+      return asset->track_id;
+    default:
+      return std::nullopt;
+  }
+}
+
 const std::shared_ptr<const scene::Mesh>& Environment::prototype(std::size_t kind,
                                                                  int variant) const {
   return prototypes_.at(kind).at(static_cast<std::size_t>(variant));

@@ -163,7 +163,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
         .range(0, 90);
     b.number("fog_visibility_m", &C::fog_visibility_m, kM,
              "Meteorological visibility of fog (2 % contrast, Koschmieder: extinction 3.912 / "
-             "visibility, applied by each pixel's range); 0: clear")
+             "visibility, applied by each pixel's range; the fog lit as the scene is, dark at "
+             "night); 0: clear")
         .range(0, 100000);
     b.boolean("headlights", &C::headlights,
               "The train's two headlights (1 m above the body's reference, 0.6 m either side of "
@@ -377,6 +378,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     CameraConfig at_night = c;
     at_night.daytime = Daytime::kNight;
     tunnel_lighting_ = lighting(at_night);
+    CameraConfig at_noon = c;
+    at_noon.daytime = Daytime::kNoon;
+    noon_lighting_ = lighting(at_noon);
     tunnel_lighting_.sky_zenith = lighting_.sky_zenith;
     tunnel_lighting_.sky_horizon = lighting_.sky_horizon;
     if (setup.context.route != nullptr)
@@ -479,13 +483,21 @@ class CameraSensor final : public SensorOf<CameraFrame> {
 
   // Fog by each pixel's range r (Beer–Lambert with Koschmieder's extinction 3.912 / V): the
   // surface's colour fades to the fog's as e^(−βr); the sky, at no range, is the fog's colour.
-  void applyFog(camera::CameraImages& img) const {
+  // The fog is lit as the scene is: its colour, light grey under the noon preset's sun and sky,
+  // scales in linear light with the light a surface facing the sky gets (ambient plus the sun's
+  // diffuse share), so night fog is dark and a tunnel's fog as dim as its walls.
+  void applyFog(camera::CameraImages& img, const camera::Lighting& lighting) const {
     const double beta = 3.912 / config_.fog_visibility_m;
     const camera::Intrinsics& k = renderer_.options().intrinsics;
+    const auto skyward = [](const camera::Lighting& l) {
+      return l.ambient + (1.0 - l.ambient) * l.sun_intensity;
+    };
+    const double lit = skyward(lighting) / skyward(noon_lighting_);
     // Koschmieder's blend of the object's light and the fog's, in linear light.
     constexpr std::uint8_t kFog[3] = {200, 204, 208};
-    const double fog[3] = {camera::Srgb::toLinear(kFog[0]), camera::Srgb::toLinear(kFog[1]),
-                           camera::Srgb::toLinear(kFog[2])};
+    const double fog[3] = {lit * camera::Srgb::toLinear(kFog[0]),
+                           lit * camera::Srgb::toLinear(kFog[1]),
+                           lit * camera::Srgb::toLinear(kFog[2])};
     for (int v = 0; v < img.height; ++v)
       for (int u = 0; u < img.width; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * img.width + u;
@@ -530,9 +542,10 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       window.tiles.push_back(std::move(tile));
     }
     CameraFrame out;
-    out.images = renderer_.render(window, T, lightingAt(trajectory_.sample(k).chainage_m));
+    const camera::Lighting lighting = lightingAt(trajectory_.sample(k).chainage_m);
+    out.images = renderer_.render(window, T, lighting);
     if (config_.rgb && config_.fog_visibility_m > 0.0)
-      applyFog(out.images);  // by the rays of the render's pinhole
+      applyFog(out.images, lighting);  // by the rays of the render's pinhole
     if (lens_)
       out.images = lens_->apply(out.images);
     camera::CameraImages& img = out.images;
@@ -647,6 +660,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
   std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_, tunnel_lighting_;
+  camera::Lighting noon_lighting_;        // the fog's colour is that of fog lit as at noon
   std::vector<track::Block> tunnels_;     // the main track's tunnel blocks
   double camera_ahead_of_front_m_ = 0.0;  // the camera's chainage past the front pivot's
   camera::Exposure exposure_;

@@ -184,11 +184,14 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
     environment = makeEnvironment(*plan, scenario);
     stream = environment->environment->stream(kSceneStreamTiles);
     context.scene = stream.get();
-    context.instances = std::make_shared<InstanceTable>(
-        [stage = environment](scene::InstanceId id) -> std::string_view {
-          const auto aspect = stage->environment->signalAspect(id);
-          return aspect ? environment::signalAspectName(*aspect) : std::string_view();
-        });
+    // What instances.csv tells of an object: its track, and a signal's aspect.
+    auto facts = [stage = environment](scene::InstanceId id) {
+      const environment::Environment& env = *stage->environment;
+      const auto aspect = env.signalAspect(id);
+      return InstanceTable::Facts{
+          env.trackOf(id), aspect ? environment::signalAspectName(*aspect) : std::string_view()};
+    };
+    context.instances = std::make_shared<InstanceTable>(std::move(facts));
   }
   if (hasSensors(scenario.json(), "lidars"))
     context.rays = std::make_shared<lidar::RayWorld>();

@@ -23,10 +23,10 @@ std::uint16_t InstanceTable::id(scene::InstanceId instance, scene::ClassId cls) 
   const auto id = static_cast<std::uint16_t>(order_.size());
   ids_.emplace(instance, id);
   if (csv_ != nullptr) {
-    const std::optional<scene::TrackAsset> asset = scene::trackAsset(instance);
+    const Facts facts = facts_ ? facts_(instance) : Facts{};
     csv_->write(fmt::format("{},{},{},{},{}\n", id, instance, scene::semanticClass(cls).name,
-                            asset ? fmt::format("{}", asset->track_id) : std::string(),
-                            state_ ? state_(instance) : std::string_view()));
+                            facts.track ? fmt::format("{}", *facts.track) : std::string(),
+                            facts.state));
   }
   return id;
 }

@@ -1,6 +1,8 @@
 // The `terrain`, `assets` and `objects` sections: declarations bound to the environment's
 // parameter structs (terrain::TerrainParams, environment::AssetParams, ObjectParams).
 
+#include <fmt/format.h>
+
 #include "trainsim/sim/config.hpp"
 
 namespace trainsim::sim {
@@ -151,8 +153,10 @@ const scenario::Section<environment::AssetParams>& assetsSection() {
         .range(0, 1);
     b.check([](const A& a, const auto& at, std::vector<Problem>& out) {
       if (a.signal_caution + a.signal_stop > 1.0)
-        out.push_back({at(a.signal_stop), "plus " + at(a.signal_caution) +
-                                              " must be at most 1 (the rest show proceed)"});
+        out.push_back({at(a.signal_stop),
+                       fmt::format("{:g} plus {} {:g} is more than 1: they must leave a share for "
+                                   "proceed",
+                                   a.signal_stop, at(a.signal_caution), a.signal_caution)});
       if (a.mast_offset_m >= a.fence_offset_m)
         out.push_back(
             {at(a.fence_offset_m), "must lie beyond the masts (" + at(a.mast_offset_m) + ")"});

@@ -147,6 +147,10 @@ class Environment {
   /// The aspect of the signal with this instance id (AssetParams::signal_caution and
   /// signal_stop); nothing for an id that is no signal's.
   std::optional<SignalAspect> signalAspect(scene::InstanceId instance) const;
+  /// The layout track a track asset of this instance id belongs to: a rail, a catenary mast or
+  /// wire, a signal. Nothing for anything else, platforms, tunnels, bridges and fences included:
+  /// they stand by the line as a whole (their ids carry track 0 whichever track is nearest).
+  std::optional<int> trackOf(scene::InstanceId instance) const;
   /// The shared prototype of an object kind's variant.
   const std::shared_ptr<const scene::Mesh>& prototype(std::size_t kind, int variant) const;
 

@@ -4,6 +4,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -32,11 +33,16 @@ namespace trainsim::sim {
 class InstanceTable {
  public:
   static constexpr std::uint16_t kOverflow = 0xFFFF;
-  /// What an object shows (instances.csv's `state`: a signal's "proceed", "caution" or "stop"),
-  /// empty for most.
-  using StateOf = std::function<std::string_view(scene::InstanceId)>;
+  /// What instances.csv says of an object beyond its ids and class: the layout track it belongs
+  /// to (a rail, a catenary mast or wire, a signal) and what it shows (a signal's "proceed",
+  /// "caution" or "stop"); nothing and empty for most.
+  struct Facts {
+    std::optional<int> track;
+    std::string_view state;
+  };
+  using FactsOf = std::function<Facts(scene::InstanceId)>;
 
-  explicit InstanceTable(StateOf state = {}) : state_(std::move(state)) {}
+  explicit InstanceTable(FactsOf facts = {}) : facts_(std::move(facts)) {}
 
   /// The id of `instance` (a thing of class `cls`); 0 for 0. Call from commit() only.
   std::uint16_t id(scene::InstanceId instance, scene::ClassId cls);
@@ -49,7 +55,7 @@ class InstanceTable {
  private:
   std::map<scene::InstanceId, std::uint16_t> ids_;
   std::vector<scene::InstanceId> order_;  // order_[i] has id i + 1
-  StateOf state_;
+  FactsOf facts_;
   io::AppendFile* csv_ = nullptr;
   bool warned_ = false;
 };
