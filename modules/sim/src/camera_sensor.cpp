@@ -262,6 +262,11 @@ camera::Intrinsics intrinsics(const CameraConfig& c) {
   return k;
 }
 
+// The light a surface facing the sky gets: the sky's (ambient) and the sun's diffuse share.
+double skywardLight(const camera::Lighting& l) {
+  return l.ambient + (1.0 - l.ambient) * l.sun_intensity;
+}
+
 camera::Lighting lighting(const CameraConfig& c) {
   double az = c.sun_azimuth_rad, el = c.sun_elevation_rad;
   switch (c.daytime) {
@@ -378,11 +383,12 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     CameraConfig at_night = c;
     at_night.daytime = Daytime::kNight;
     tunnel_lighting_ = lighting(at_night);
-    CameraConfig at_noon = c;
-    at_noon.daytime = Daytime::kNoon;
-    noon_lighting_ = lighting(at_noon);
     tunnel_lighting_.sky_zenith = lighting_.sky_zenith;
     tunnel_lighting_.sky_horizon = lighting_.sky_horizon;
+    // The fog's colour is that of fog lit as under the noon preset (applyFog).
+    CameraConfig at_noon = c;
+    at_noon.daytime = Daytime::kNoon;
+    noon_sky_light_ = skywardLight(lighting(at_noon));
     if (setup.context.route != nullptr)
       for (const track::Block& block : setup.context.route->blocks)
         if (block.type == track::BlockType::kTunnel)
@@ -489,10 +495,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   void applyFog(camera::CameraImages& img, const camera::Lighting& lighting) const {
     const double beta = 3.912 / config_.fog_visibility_m;
     const camera::Intrinsics& k = renderer_.options().intrinsics;
-    const auto skyward = [](const camera::Lighting& l) {
-      return l.ambient + (1.0 - l.ambient) * l.sun_intensity;
-    };
-    const double lit = skyward(lighting) / skyward(noon_lighting_);
+    const double lit = skywardLight(lighting) / noon_sky_light_;
     // Koschmieder's blend of the object's light and the fog's, in linear light.
     constexpr std::uint8_t kFog[3] = {200, 204, 208};
     const double fog[3] = {lit * camera::Srgb::toLinear(kFog[0]),
@@ -660,7 +663,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
   std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_, tunnel_lighting_;
-  camera::Lighting noon_lighting_;        // the fog's colour is that of fog lit as at noon
+  double noon_sky_light_ = 1.0;           // skywardLight() under the noon preset
   std::vector<track::Block> tunnels_;     // the main track's tunnel blocks
   double camera_ahead_of_front_m_ = 0.0;  // the camera's chainage past the front pivot's
   camera::Exposure exposure_;
