@@ -14,6 +14,13 @@ QVector<double> seconds(const QVector<double>& t_ns) {
   return out;
 }
 
+std::pair<QString, QString> splitLabel(const QString& label) {
+  const auto open = label.lastIndexOf(" [");
+  if (open < 0 || !label.endsWith(']'))
+    return {label, QString()};
+  return {label.left(open), label.mid(open + 2, label.size() - open - 3)};
+}
+
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent), plot_(new QCustomPlot(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
@@ -63,13 +70,25 @@ void PlotPanel::setRows(const QString& x_label, const std::vector<PlotRow>& rows
     rect->setRangeZoom(Qt::Horizontal);
     QCPAxis* x = rect->axis(QCPAxis::atBottom);
     QCPAxis* y = rect->axis(QCPAxis::atLeft);
-    y->setLabel(rows[i].y_label);
+    // Rows are short (four or more share the panel): the axis is titled with the unit alone and
+    // the quantity is written in the row's top-left corner, since a whole title such as
+    // "acceleration [m/s²]" is longer than the row is high and runs into its neighbours'.
+    const auto [quantity, unit] = splitLabel(rows[i].y_label);
+    y->setLabel(unit);
+    y->ticker()->setTickCount(3);  // more labels than this overlap on a short row
     if (i + 1 == rows.size())
       x->setLabel(x_label);
     rect->setupFullAxesBox(true);
+    auto* title = new QCPTextElement(plot_, quantity, QFont(font().family(), 8));
+    title->setLayer("legend");
+    title->setTextFlags(Qt::AlignLeft | Qt::AlignTop);
+    title->setMargins(QMargins(6, 2, 0, 0));  // clear of the axis line
+    rect->insetLayout()->addElement(title, Qt::AlignTop | Qt::AlignLeft);
+    // The legend in one line, so that it stays within a short row.
     auto* legend = new QCPLegend;
     rect->insetLayout()->addElement(legend, Qt::AlignTop | Qt::AlignRight);
     legend->setLayer("legend");
+    legend->setFillOrder(QCPLayoutGrid::foColumnsFirst);
     legend->setFont(QFont(font().family(), 8));
     legend->setBrush(QBrush(QColor(255, 255, 255, 200)));
     for (const Series& s : rows[i].series) {
