@@ -119,7 +119,7 @@ for v in range(h):
 assert checked > w * h // 4, checked
 PY
 # Signals show their aspect: instances.csv names it for every signal (never stop on the train's
-# own track 0), and where a signal is large in the night picture, its brightest pixel has the
+# own track 0) and lists every signal as class signal, and where a signal is large in the night picture, its brightest pixel has the
 # aspect's colour (the lit lamp, overexposed at ISO 400 as real ones are).
 python3 - "$WORK/t1/sequences/00" <<'PY' && pass "signal aspects in instances.csv and in the pictures" || fail "signal aspects"
 import os, sys
@@ -136,6 +136,7 @@ for line in lines[1:]:
     assert (state in ("proceed", "caution", "stop")) == signal and (state == "") != signal, line
     if signal:
         assert not (state == "stop" and (scene >> 44) & 0xFFF == 0), line  # the train's track
+        assert cls == "signal", line  # also where its post was seen before its head
         aspects[int(instance)] = state
 assert len(set(aspects.values())) == 3, aspects
 checked = {}
@@ -168,6 +169,18 @@ for frame in frames[::3]:
         checked[aspects[i]] = checked.get(aspects[i], 0) + 1
 assert len(checked) == 3, checked
 print(checked)
+PY
+# The default run's instances.csv too lists every signal as class signal (a LiDAR sees many a
+# signal's post before its head).
+python3 - "$WORK/a/sequences/00/instances.csv" <<'PY' && pass "every signal of the default run is listed as a signal" || fail "a signal listed under another class"
+import sys
+signals = 0
+for line in open(sys.argv[1]).read().splitlines()[1:]:
+    instance, scene, cls, track, state = line.split(",")
+    if int(scene) >> 56 == 1 and (int(scene) >> 36) & 0xFF == 12:
+        assert cls == "signal", line
+        signals += 1
+assert signals > 10, signals
 PY
 # Track discrimination: instances.csv gives each rail's layout track, and the LiDAR's rail points
 # 5-15 m ahead lie within 1 m of the sensor's axis exactly when their rail is the train's own

@@ -184,12 +184,15 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
     environment = makeEnvironment(*plan, scenario);
     stream = environment->environment->stream(kSceneStreamTiles);
     context.scene = stream.get();
-    // What instances.csv tells of an object: its track, and a signal's aspect.
+    // What instances.csv tells of an object: its track, a signal's aspect, and that a signal is
+    // a signal even where its post is seen before its head.
     auto facts = [stage = environment](scene::InstanceId id) {
       const environment::Environment& env = *stage->environment;
       const auto aspect = env.signalAspect(id);
-      return InstanceTable::Facts{
-          env.trackOf(id), aspect ? environment::signalAspectName(*aspect) : std::string_view()};
+      if (!aspect)
+        return InstanceTable::Facts{env.trackOf(id), {}, std::nullopt};
+      return InstanceTable::Facts{env.trackOf(id), environment::signalAspectName(*aspect),
+                                  scene::cls::kSignal};
     };
     context.instances = std::make_shared<InstanceTable>(std::move(facts));
   }

@@ -24,9 +24,9 @@ std::uint16_t InstanceTable::id(scene::InstanceId instance, scene::ClassId cls) 
   ids_.emplace(instance, id);
   if (csv_ != nullptr) {
     const Facts facts = facts_ ? facts_(instance) : Facts{};
-    csv_->write(fmt::format("{},{},{},{},{}\n", id, instance, scene::semanticClass(cls).name,
-                            facts.track ? fmt::format("{}", *facts.track) : std::string(),
-                            facts.state));
+    csv_->write(fmt::format(
+        "{},{},{},{},{}\n", id, instance, scene::semanticClass(facts.cls.value_or(cls)).name,
+        facts.track ? fmt::format("{}", *facts.track) : std::string(), facts.state));
   }
   return id;
 }

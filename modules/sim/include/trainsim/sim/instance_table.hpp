@@ -22,23 +22,26 @@ namespace trainsim::sim {
 /// order the sensors first commit them (sample order, then sensor order: the same for any
 /// thread count), and every perception sensor of the run shares it, so an object has one id in
 /// every LiDAR's labels and every camera's instance image. Each new id is appended to
-/// instances.csv (id, the scene's instance id as objects.csv lists it, the class it was first
-/// seen as: a tree's crown and trunk, a signal's post and head share one id; the layout track a
-/// track asset belongs to, so the rails of the train's own track 0 can be told from the others;
-/// and its state, what the object shows if it shows anything: a signal's aspect), and the table
-/// is checkpointed, so a resumed run numbers on exactly as the killed one would have.
+/// instances.csv (id, the scene's instance id as objects.csv lists it, its class: a signal's is
+/// signal whether its head or its post is seen first, other objects the class they were first
+/// seen as (a tree's crown and trunk share one id); the layout track a track asset belongs to,
+/// so the rails of the train's own track 0 can be told from the others; and its state, what the
+/// object shows if it shows anything: a signal's aspect), and the table is checkpointed, so a
+/// resumed run numbers on exactly as the killed one would have.
 ///
 /// Past 65535 objects in one sequence the ids run out: further objects share 65535, and the
 /// run says so once.
 class InstanceTable {
  public:
   static constexpr std::uint16_t kOverflow = 0xFFFF;
-  /// What instances.csv says of an object beyond its ids and class: the layout track it belongs
-  /// to (a rail, a catenary mast or wire, a signal) and what it shows (a signal's "proceed",
-  /// "caution" or "stop"); nothing and empty for most.
+  /// What instances.csv says of an object beyond its ids: its class where the object has one
+  /// whatever part of it is seen first (a signal's head and post: signal), the layout track it
+  /// belongs to (a rail, a catenary mast or wire, a signal) and what it shows (a signal's
+  /// "proceed", "caution" or "stop"); nothing and empty for most.
   struct Facts {
     std::optional<int> track;
     std::string_view state;
+    std::optional<scene::ClassId> cls;
   };
   using FactsOf = std::function<Facts(scene::InstanceId)>;
 
