@@ -384,8 +384,9 @@ TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot)
       const std::optional<int> track = w.env().trackOf(o.instance);
       const bool by_the_line = asset->kind >= 7 && asset->kind <= 11;
       ASSERT_EQ(track.has_value(), !by_the_line) << asset->kind;
-      if (track)
+      if (track) {
         ASSERT_EQ(*track, asset->track_id);
+      }
       if (asset->kind == 3 || asset->kind == 12) {
         // A mast's or a signal's foot (its vertices within 1 m of its lowest: the cantilevers
         // reach over the tracks) is nearest to its own track.
@@ -406,8 +407,9 @@ TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot)
       ASSERT_TRUE(asset.has_value());
       const std::optional<int> track = w.env().trackOf(wire.instance);
       ASSERT_EQ(track.has_value(), asset->kind != 11) << asset->kind;  // fences' wires: none
-      if (track)
+      if (track) {
         ASSERT_EQ(*track, asset->track_id);
+      }
       ++checked[asset->kind];
     }
   }

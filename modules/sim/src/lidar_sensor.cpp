@@ -201,8 +201,8 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
         .range(0.01, 100);
     b.choice("returns", &C::returns,
              "Echoes a pulse reports: strongest (received power), last, or dual (both; one "
-             "point when they are the same echo). point_info's return index is 0 for the first, "
-             "1 for the last of a dual pair");
+             "point when they are the same echo). point_info's return index is 0 for the strongest "
+             "(or the only) return, 1 for the last of a dual pair");
     b.boolean("point_info", &C::point_info,
               "Write point_info/*.bin: per point firing time, range, ring, return index, "
               "material");
