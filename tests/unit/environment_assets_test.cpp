@@ -244,6 +244,66 @@ TEST(Assets, UprightThingsStandAlongTheEarthsLocalVerticalNotWorldZ) {
     EXPECT_GT(checked[what], 10u) << what;
 }
 
+TEST(Assets, PlatformsStandAtTheirEdgeFromTheTracksAndClearOfAnAuxiliaryTracksLeg) {
+  // A station entered by an auxiliary track's dead-end leg, which turns in from 9.6 m to the
+  // track's parallel 4 m within the station (as an audit's route had it). Each platform's front
+  // face stands platform_edge_m, its back platform_edge_m + platform_width_m, from the nearest
+  // track, all along it: the platform follows the parallel tracks and stops short of the leg
+  // (it used to stand beyond the leg's far end, 7 m from every track).
+  const Json patch = Json::parse(R"({"route": {"source": "blocks", "blocks": [
+      {"type": "straight", "length_m": 300},
+      {"type": "curve", "length_m": 300, "radius_m": 1200, "direction": "left"},
+      {"type": "station", "length_m": 250}, {"type": "straight", "length_m": 300}]}})");
+  const World w = makeWorld(patch);
+  const environment::AssetParams& A = w.env().params().assets;
+  const auto segments = allSegments(w);
+  const track::Layout& layout = w.railway().layout();
+  // The scenario does what it is here for: a track's leg lies further out in the station than
+  // any track runs parallel there.
+  const terrain::Structure* station = nullptr;
+  for (const terrain::Structure& s : w.railway().structures())
+    if (s.type == track::BlockType::kStation)
+      station = &s;
+  ASSERT_NE(station, nullptr);
+  double leg = 0.0, parallel = 0.0;
+  for (const track::LayoutTrack& t : layout.tracks)
+    for (const track::OffsetPiece& piece : t.offset)
+      if (piece.x1 > station->chainage_begin_m && piece.x0 < station->chainage_end_m) {
+        const double x = std::clamp(station->chainage_begin_m, piece.x0, piece.x1);
+        leg = std::max(leg, piece.offset(x));
+        if (piece.shape == track::OffsetPiece::Shape::kLine && piece.y0 == piece.y1)
+          parallel = std::max(parallel, piece.y0);
+      }
+  ASSERT_GT(leg, parallel + 1.0) << "no leg turns in within the station";
+  int front = 0, back = 0, other = 0;
+  for (const scene::TileIndex& i : w.env().tiles()) {
+    const std::shared_ptr<const scene::Tile> tile = w.env().tile(i);  // alive through the loop
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset || asset->kind != 7)  // the platforms
+        continue;
+      for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+        const Eigen::Vector3d p = o.worldVertex(v);
+        double d = std::numeric_limits<double>::infinity();
+        for (const Segment& s : segments) {
+          const Eigen::Vector2d u = (s.b - s.a).head<2>();
+          const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
+          d = std::min(d, (p.head<2>() - s.a.head<2>() - t * u).norm());
+        }
+        if (std::abs(d - A.platform_edge_m) < 0.02)
+          ++front;
+        else if (std::abs(d - A.platform_edge_m - A.platform_width_m) < 0.02)
+          ++back;
+        else
+          ++other;
+      }
+    }
+  }
+  EXPECT_GT(front, 0);
+  EXPECT_GT(back, 0);
+  EXPECT_EQ(other, 0) << front << " vertices at the front, " << back << " at the back";
+}
+
 TEST(Assets, MastsSignalsAndFencesStayOutOfEveryTracksClearanceGauge) {
   // Below the top of the kinematic gauge (4.35 m above the rails, UIC GB), nothing of a mast,
   // signal or fence comes closer than 2.2 m (plan) to any track centre: the gauge's half-width

@@ -9,6 +9,9 @@
 namespace trainsim::environment::detail {
 namespace {
 
+// A platform shorter than this is not laid (m).
+constexpr double kShortestPlatform_m = 20.0;
+
 // Outermost track offsets over a chainage range (sampled every 10 m).
 std::pair<double, double> outermostOver(const track::Layout& layout, double x0, double x1) {
   double left = 0.0, right = 0.0;
@@ -20,6 +23,41 @@ std::pair<double, double> outermostOver(const track::Layout& layout, double x0, 
       break;
   }
   return {left, right};
+}
+
+// The outermost offsets over a chainage range of the tracks where they run parallel to the main
+// track: an auxiliary track's legs, which turn in from a turnout or a dead end, left out.
+std::pair<double, double> parallelOffsetsOver(const track::Layout& layout, double x0, double x1) {
+  double left = 0.0, right = 0.0;
+  for (const auto& t : layout.tracks)
+    for (const auto& piece : t.offset)
+      if (piece.shape == track::OffsetPiece::Shape::kLine && piece.y0 == piece.y1 &&
+          piece.x1 > x0 && piece.x0 < x1) {
+        left = std::max(left, piece.y0);
+        right = std::min(right, piece.y0);
+      }
+  return {left, right};
+}
+
+// The longest stretch of [x0, x1] (sampled every metre) where no track lies further out on
+// `side` (+1 left, −1 right) than `edge`: where a platform along `edge` leaves every track's
+// legs clear. Empty (first > second) where there is none.
+std::pair<double, double> clearStretch(const track::Layout& layout, double x0, double x1, int side,
+                                       double edge) {
+  std::pair<double, double> best{1.0, 0.0}, run{1.0, 0.0};
+  const int n = std::max(1, static_cast<int>(std::ceil(x1 - x0)));
+  for (int i = 0; i <= n; ++i) {
+    const double x = x0 + (x1 - x0) * i / n;
+    const auto [l, r] = outermostOffsets(layout, x);
+    if (side > 0 ? l <= edge + 1e-6 : r >= edge - 1e-6) {
+      run = run.first > run.second ? std::pair{x, x} : std::pair{run.first, x};
+      if (run.second - run.first > best.second - best.first)
+        best = run;
+    } else {
+      run = {1.0, 0.0};
+    }
+  }
+  return best;
 }
 
 // A horseshoe of radius r around (centre, 0): a half circle above `spring` and walls down to
@@ -57,18 +95,27 @@ void addStructures(TileContext& ctx) {
     auto mesh = std::make_shared<scene::Mesh>();
     int kind = kPlatformLeft;
     if (s.type == track::BlockType::kStation) {
-      // Side platforms beyond the outermost track on each side, level with platform_height_m
-      // above the top of rail, their fronts down to the formation.
+      // Side platforms beyond the outermost track on each side where the tracks run parallel,
+      // level with platform_height_m above the top of rail, their fronts down to the formation.
+      // An auxiliary track's leg turning in within the station would stand in the platform: the
+      // platform keeps to the longest stretch clear of it (standing beyond the leg instead put
+      // it metres from every track).
       mesh->beginPart(scene::cls::kPlatform, scene::mat::kConcrete);
+      const auto [par_left, par_right] =
+          parallelOffsetsOver(layout, s.chainage_begin_m, s.chainage_end_m);
       for (const int side : {1, -1}) {
-        const double edge = side > 0 ? left + A.platform_edge_m : right - A.platform_edge_m;
+        const double outermost = side > 0 ? par_left : par_right;
+        const auto [x0, x1] =
+            clearStretch(layout, s.chainage_begin_m, s.chainage_end_m, side, outermost);
+        const double edge = outermost + side * A.platform_edge_m;
         const double back = edge + side * A.platform_width_m;
         std::vector<Eigen::Vector2d> box = {{edge, -formation},
                                             {edge, A.platform_height_m},
                                             {back, A.platform_height_m},
                                             {back, -formation}};
-        for (const auto& run : runs)
-          extrude(*mesh, ctx, run, box, true);
+        if (x1 - x0 >= kShortestPlatform_m)
+          for (const auto& run : ownedRuns(ctx, 0, x0, x1))
+            extrude(*mesh, ctx, run, box, true);
       }
     } else if (s.type == track::BlockType::kTunnel) {
       // One tube around all tracks, crown tunnel_crown_m above the rails, lining facing in.
