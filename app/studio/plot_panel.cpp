@@ -5,6 +5,7 @@
 #include <qcustomplot.h>
 #include <QVBoxLayout>
 #include <cmath>
+#include <utility>
 
 namespace trainsim::studio {
 
@@ -14,12 +15,18 @@ QVector<double> seconds(const QVector<double>& t_ns) {
   return out;
 }
 
+namespace {
+
+// "acceleration [m/s²]" → ("acceleration", "m/s²"); a label without a bracketed unit is all
+// quantity.
 std::pair<QString, QString> splitLabel(const QString& label) {
   const auto open = label.lastIndexOf(" [");
   if (open < 0 || !label.endsWith(']'))
     return {label, QString()};
   return {label.left(open), label.mid(open + 2, label.size() - open - 3)};
 }
+
+}  // namespace
 
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent), plot_(new QCustomPlot(this)) {
   auto* layout = new QVBoxLayout(this);

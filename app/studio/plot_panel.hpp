@@ -5,7 +5,6 @@
 #include <QString>
 #include <QVector>
 #include <QWidget>
-#include <utility>
 #include <vector>
 
 class QCustomPlot;
@@ -36,10 +35,6 @@ struct PlotRow {
   QString y_label;  ///< "quantity [unit]": the unit titles the axis, the quantity the row
   std::vector<Series> series;
 };
-
-/// "acceleration [m/s²]" → ("acceleration", "m/s²"); a label without a bracketed unit is all
-/// quantity.
-std::pair<QString, QString> splitLabel(const QString& label);
 
 /// Stacked plots sharing one x axis (QCustomPlot): drag to pan, wheel to zoom (x on every row
 /// at once; with Ctrl the row's y), double-click to fit. A click puts a cursor at that x on
