@@ -266,11 +266,13 @@ expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top pl
 grep -q "cameras\[[012]\]: the camera sees the rail-top plane" "$WORK/err" && fail "a windscreen camera was flagged for its near plane" ||
   pass "windscreen cameras are not flagged for their near plane"
 # Daylight does not reach far into a tunnel: at noon, the pictures 100 m or more inside an 800 m
-# tunnel are much darker than those outside it (the headlights light the tube).
+# tunnel are much darker than those outside it (the headlights light the tube). And it is the
+# surfaces that are lit or not, not the whole picture: from outside, the bore seen through the
+# portal is dark beyond daylight's 50 m; from inside, the world beyond the exit is daylit.
 cat >"$WORK/tunnel.json" <<'JSON'
 {"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 400}, {"type": "tunnel", "length_m": 800}, {"type": "straight", "length_m": 400}]},
- "dataset": {"frame_period_ns": 2000000000},
- "sensors": {"cameras": [{"width": 240, "height": 80, "period_ns": 2000000000}]}}
+ "dataset": {"frame_period_ns": 1000000000},
+ "sensors": {"cameras": [{"width": 240, "height": 80, "period_ns": 1000000000}]}}
 JSON
 expect_exit 0 "generate through a tunnel" -- "$TRAINSIM" generate "$WORK/tunnel.json" --out "$WORK/tunnel" --progress none
 python3 - "$WORK/tunnel" <<'PY' && pass "tunnel pictures are dark inside, daylit outside" || fail "tunnel lighting"
@@ -293,6 +295,44 @@ for i, line in enumerate(open(os.path.join(seq, "times.txt"))):
 assert len(inside) >= 5 and len(outside) >= 10, (len(inside), len(outside))
 print("inside", max(inside), "outside", min(outside))
 assert max(inside) < 0.3 * min(outside), (inside, outside)
+PY
+python3 - "$WORK/tunnel" <<'PY' && pass "a tunnel's bore is dark seen from outside, the world beyond its exit daylit from inside" || fail "tunnel daylight by surface"
+import bisect, csv, os, sys
+sys.path.insert(0, os.environ["TESTS_DIR"])
+from kitti_read import read_png
+root = sys.argv[1]
+seq = os.path.join(root, "sequences", "00")
+rows = list(csv.DictReader(open(os.path.join(root, "trajectory.csv"))))
+t_ns = [int(r["t_ns"]) for r in rows]
+# Mean colour and count of the pixels whose depth (along the optical axis, the camera looking
+# down the straight track) lies in (lo, hi) m.
+def pixels(i, lo, hi):
+    _, _, _, px = read_png(os.path.join(seq, "image_2", "%06d.png" % i))
+    _, _, _, dp = read_png(os.path.join(seq, "depth_2", "%06d.png" % i))
+    total = n = 0
+    for prow, drow in zip(px, dp):
+        for x, d in enumerate(drow):
+            if lo < d / 256.0 < hi:
+                total += sum(prow[3 * x:3 * x + 3])
+                n += 1
+    return total, n
+bore, near, beyond = [0, 0], [0, 0], [0, 0]
+for i, line in enumerate(open(os.path.join(seq, "times.txt"))):
+    # The camera is 1.75 m ahead of the front pivot (mount 10.5 m, bogie spacing 17.5 m).
+    c = float(rows[bisect.bisect_left(t_ns, round(float(line) * 1e9))]["chainage_m"]) + 1.75
+    parts = []
+    if 300 < c < 395:  # before the portal at 400 m: the bore past 60 m in, the open track
+        parts = [(bore, 400 - c + 60, 99), (near, 0.1, 400 - c - 5)]
+    elif 1100 < c < 1195:  # before the exit at 1200 m: what lies beyond it
+        parts = [(beyond, 1200 - c + 2, 99)]
+    for acc, lo, hi in parts:
+        total, n = pixels(i, lo, hi)
+        acc[0] += total
+        acc[1] += n
+assert min(bore[1], near[1], beyond[1]) >= 20, (bore, near, beyond)
+mean = lambda acc: acc[0] / (3.0 * acc[1])
+print("bore", mean(bore), "open track", mean(near), "beyond the exit", mean(beyond))
+assert mean(bore) < 40 and mean(near) > 80 and mean(beyond) > 70, (mean(bore), mean(near), mean(beyond))
 PY
 # Dual returns with one ray a pulse have nothing to pair: the run says so (and not for a LiDAR
 # whose pulses have sub-rays). Without a camera, calib.txt still has P0-P3 for pykitti.

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -422,6 +423,63 @@ TEST(CameraRender, AWireIsShadedByTheLightOfTheSceneNotDrawnAtItsFullColour) {
     }
   }
   EXPECT_GT(wire, 20);
+}
+
+TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRest) {
+  // Ground 200 m square, the camera 2 m over it looking along +x. Daylight reaches the ground
+  // fully nearer than x = 20 m, none of it past 40 m, linearly in between (a tunnel's bore, as
+  // the camera sensor's function has it). Each pixel is then the render by day where its
+  // surface is in daylight, the shade's render where none reaches it, their blend between, and
+  // the sky the day's sky.
+  const Eigen::Vector3d O(1.0e6, 0.0, 250.0);  // far from the scenario origin
+  const auto tile =
+      makeTile(O, {square(Eigen::Vector3d(100.0, 0.0, 0.0), Eigen::Vector3d::UnitZ(), 200.0)});
+  const auto share = [&](const Eigen::Vector3d& p) {
+    return std::clamp((40.0 - (p.x() - O.x())) / 20.0, 0.0, 1.0);
+  };
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  const camera::Renderer plain(o);
+  o.daylight = [&](std::span<const Eigen::Vector3d> points, std::span<float> shares) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      shares[i] = static_cast<float>(share(points[i]));
+  };
+  const camera::Renderer shaded(o);
+  const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.0));
+  camera::Lighting day, shade;
+  shade.sun_intensity = 0.0;
+  shade.ambient = 0.05;
+  camera::Spot lamp;
+  lamp.direction = Eigen::Vector3d(0.0, 0.1, 1.0).normalized();
+  shade.spots.push_back(lamp);
+  const camera::CameraImages a = plain.render({{tile}}, T, day);
+  const camera::CameraImages b = plain.render({{tile}}, T, shade);
+  const camera::CameraImages mixed = shaded.render({{tile}}, T, day, &shade);
+  // Without a shade, the daylight function changes nothing.
+  EXPECT_EQ(shaded.render({{tile}}, T, day).rgb, a.rgb);
+  ASSERT_EQ(mixed.rgb.size(), a.rgb.size());
+  EXPECT_EQ(mixed.depth, a.depth);
+  const camera::Intrinsics& k = o.intrinsics;
+  int sunny = 0, dark = 0, between = 0, sky = 0;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      const double z = a.depth[i];
+      const double w =
+          z > 0.0 ? share(T * Eigen::Vector3d((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z))
+                  : 1.0;
+      (z == 0.0 ? sky : w == 1.0 ? sunny : w == 0.0 ? dark : between) += 1;
+      for (int c = 0; c < 3; ++c) {
+        const double expected = b.rgb[3 * i + c] + w * (a.rgb[3 * i + c] - b.rgb[3 * i + c]);
+        ASSERT_NEAR(mixed.rgb[3 * i + c], expected, 0.5 + 1e-4) << u << " " << v;
+      }
+    }
+  EXPECT_GT(sunny, 1000);
+  EXPECT_GT(dark, 1000);
+  EXPECT_GT(between, 1000);
+  EXPECT_GT(sky, 1000);
+  // The shade is darker than the day where the lamp does not reach.
+  EXPECT_LT(b.rgb[3 * (k.width * (k.height - 1)) + 1], a.rgb[3 * (k.width * (k.height - 1)) + 1]);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "trainsim/core/random.hpp"
 #include "trainsim/io/file_io.hpp"
 #include "trainsim/io/png.hpp"
+#include "trainsim/terrain/daylight.hpp"
 
 #include "unit/environment_world.hpp"
 
@@ -450,6 +451,67 @@ TEST(Terrain, TheSimplifiedMeshStaysWithinItsToleranceOfEveryGridHeight) {
     }
   }
   EXPECT_GE(portal_tiles, 4);
+}
+
+TEST(TunnelDaylight, FadesFromEachPortalIntoTheBoreAndLeavesTheOpenAndTheHillInDaylight) {
+  // The default route's two tunnels (double track through both): on either track, daylight
+  // falls linearly from 1 at a portal to 0 at 50 m inside, from both ends; in front of a portal,
+  // on the hill over the tube and beside it, it is daylight.
+  const World& w = defaultWorld();
+  const terrain::TerrainParams& p = w.env().params().terrain;
+  const terrain::TunnelDaylight day(w.railway().route(), w.railway().layout(), p);
+  ASSERT_FALSE(day.empty());
+  int tunnels = 0;
+  for (const track::Block& b : w.railway().route().blocks) {
+    if (b.type != track::BlockType::kTunnel)
+      continue;
+    ++tunnels;
+    ASSERT_GT(b.chainage_end_m - b.chainage_begin_m, 120.0);
+    for (const double in : {-10.0, 0.5, 5.0, 25.0, 49.0, 60.0})
+      for (const int end : {0, 1})
+        for (const int track : {0, 1}) {
+          const double s = end == 0 ? b.chainage_begin_m + in : b.chainage_end_m - in;
+          const track::TrackFrame f = w.railway().frame(track, s);
+          const double expected = std::clamp(1.0 - in / 50.0, 0.0, 1.0);
+          // On the rails, and up under the crown.
+          for (const double up : {0.2, p.tunnel_crown_m - 0.2})
+            EXPECT_NEAR(day(f.position + up * f.up), in < 0.0 ? 1.0 : expected, 1e-3)
+                << b.id << " " << s << " track " << track << " up " << up;
+        }
+    const double mid = 0.5 * (b.chainage_begin_m + b.chainage_end_m);
+    const track::TrackFrame f = w.railway().frame(0, mid);
+    EXPECT_EQ(day(f.position), 0.0);
+    EXPECT_EQ(day(f.position + (p.tunnel_crown_m + 2.0) * f.up), 1.0);  // the hill over it
+    // Beside the tube: past the half width left of the main track, and right of the double.
+    EXPECT_EQ(day(f.position + (p.tunnel_half_width_m + 1.0) * f.left), 1.0);
+    const track::TrackFrame g = w.railway().frame(1, mid);
+    EXPECT_EQ(day(g.position - (p.tunnel_half_width_m + 1.0) * g.left), 1.0);
+    EXPECT_EQ(day(g.position - (p.tunnel_half_width_m - 1.0) * g.left), 0.0);
+  }
+  EXPECT_EQ(tunnels, 2);
+  // Many points at once (the renderer's way, each nearest sample looked for from the last
+  // one's): the same shares, for points along, across and over the whole route.
+  std::vector<Eigen::Vector3d> points;
+  for (double s = 0.0; s < 6000.0; s += 7.3)
+    for (const double across : {-13.0, -6.0, 0.0, 5.0, 9.0})
+      for (const double up : {-1.0, 0.3, 4.0, 7.2, 9.0}) {
+        const track::TrackFrame f = w.railway().frame(0, s);
+        points.push_back(f.position + across * f.left + up * f.up);
+      }
+  std::vector<float> shares(points.size());
+  day.shares(points, shares);
+  int shaded = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_NEAR(shares[i], day(points[i]), 1e-4) << i;
+    shaded += shares[i] < 1.0f;
+  }
+  EXPECT_GT(shaded, 300);
+  // A route without tunnels has daylight everywhere.
+  const World open =
+      makeWorld(Json::parse(R"({"route": {"generator": {"tunnel": {"probability": 0}}}})"));
+  EXPECT_TRUE(terrain::TunnelDaylight(open.railway().route(), open.railway().layout(),
+                                      open.env().params().terrain)
+                  .empty());
 }
 
 }  // namespace

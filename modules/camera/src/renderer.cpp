@@ -580,8 +580,82 @@ struct Renderer::Impl {
       props->AddItem(a);
   }
 
+  // Sets the colour pass's lights and sky: the sun, the sky's share, the spots.
+  void light(const Lighting& lighting, const Eigen::Matrix3d& R_world_cam) {
+    gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
+    gl->lit->SetDiffuse(1.0 - lighting.ambient);
+    // A wire is a line, which has no normal for VTK to light: it is shaded by one factor, the
+    // sky's light and half the sun's (the mean over a thin cylinder's faces, roughly), so it
+    // is dark at night instead of drawn at its full colour.
+    gl->wire->SetAmbient(lighting.ambient +
+                         0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
+    gl->sun->SetPosition(lighting.sun_direction.data());
+    gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
+    // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would
+    // draw every surface unlit, at its full colour.
+    gl->sun->SetIntensity(lighting.sun_intensity);
+    setSpots(lighting.spots, R_world_cam);
+    vtkRenderer* ren = gl->renderer;
+    ren->GradientBackgroundOn();
+    ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
+                       lighting.sky_horizon[2] / 255.0);
+    ren->SetBackground2(lighting.sky_zenith[0] / 255.0, lighting.sky_zenith[1] / 255.0,
+                        lighting.sky_zenith[2] / 255.0);
+  }
+
+  // The window's colour, 3 bytes a pixel, rows top to bottom (OpenGL's are bottom-up).
+  std::vector<std::uint8_t> readColour(const Intrinsics& k) {
+    vtkNew<vtkUnsignedCharArray> rgb;
+    gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, rgb, 0);
+    std::vector<std::uint8_t> out(3 * static_cast<std::size_t>(k.width) * k.height);
+    for (int y = 0; y < k.height; ++y)
+      std::copy_n(rgb->GetPointer(3 * static_cast<vtkIdType>(y) * k.width), 3 * k.width,
+                  out.data() + 3 * static_cast<std::size_t>(k.height - 1 - y) * k.width);
+    return out;
+  }
+
+  // Metres along the optical axis, rows top to bottom; 0 where nothing is drawn.
+  std::vector<float> readDepth(const Intrinsics& k, const RendererOptions& o) {
+    vtkNew<vtkFloatArray> z;
+    gl->window->GetZbufferData(0, 0, k.width - 1, k.height - 1, z);
+    std::vector<float> out(static_cast<std::size_t>(k.width) * k.height);
+    for (int y = 0; y < k.height; ++y)
+      for (int x = 0; x < k.width; ++x) {
+        const float d = z->GetValue(static_cast<vtkIdType>(y) * k.width + x);
+        out[static_cast<std::size_t>(k.height - 1 - y) * k.width + x] =
+            d < 1.0f ? static_cast<float>(depthFromBuffer(d, o.near_m, o.far_m)) : 0.0f;
+      }
+    return out;
+  }
+
+  // The daylight share of the surface each pixel shows (its point: the pixel's ray at the
+  // depth read back); 1 for the sky.
+  static std::vector<float> daylightShares(const Intrinsics& k, const RendererOptions& o,
+                                           const std::vector<float>& z,
+                                           const Eigen::Isometry3d& T_world_cam) {
+    std::vector<float> day(z.size(), 1.0f);
+    std::vector<Eigen::Vector3d> points;
+    std::vector<std::size_t> at;
+    for (int y = 0; y < k.height; ++y)
+      for (int x = 0; x < k.width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * k.width + x;
+        if (z[i] <= 0.0f)
+          continue;
+        const double d = z[i];
+        points.push_back(T_world_cam *
+                         Eigen::Vector3d((x - k.cx) / k.fx * d, (y - k.cy) / k.fy * d, d));
+        at.push_back(i);
+      }
+    std::vector<float> shares(points.size());
+    o.daylight(points, shares);
+    for (std::size_t j = 0; j < at.size(); ++j)
+      day[at[j]] = shares[j];
+    return day;
+  }
+
   CameraImages render(const RendererOptions& o, const scene::SceneWindow& window,
-                      const Eigen::Isometry3d& T_world_cam, const Lighting& lighting) {
+                      const Eigen::Isometry3d& T_world_cam, const Lighting& lighting,
+                      const Lighting* shade) {
     if (!gl)
       start(o);
     ++gl->frame;
@@ -639,44 +713,31 @@ struct Renderer::Impl {
           actors.push_back(glow);
       }
       show(actors);
-      gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
-      gl->lit->SetDiffuse(1.0 - lighting.ambient);
-      // A wire is a line, which has no normal for VTK to light: it is shaded by one factor, the
-      // sky's light and half the sun's (the mean over a thin cylinder's faces, roughly), so it
-      // is dark at night instead of drawn at its full colour.
-      gl->wire->SetAmbient(lighting.ambient +
-                           0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
-      gl->sun->SetPosition(lighting.sun_direction.data());
-      gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
-      // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would
-      // draw every surface unlit, at its full colour.
-      gl->sun->SetIntensity(lighting.sun_intensity);
-      setSpots(lighting.spots, R);
-      ren->GradientBackgroundOn();
-      ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
-                         lighting.sky_horizon[2] / 255.0);
-      ren->SetBackground2(lighting.sky_zenith[0] / 255.0, lighting.sky_zenith[1] / 255.0,
-                          lighting.sky_zenith[2] / 255.0);
       ren->SetUseFXAA(o.fxaa && o.passes.rgb);
+      light(lighting, R);
       gl->window->Render();
-      if (o.passes.rgb) {
-        vtkNew<vtkUnsignedCharArray> rgb;
-        gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, rgb, 0);
-        out.rgb.resize(3 * pixels);
-        for (int y = 0; y < k.height; ++y)  // OpenGL's rows are bottom-up
-          std::copy_n(rgb->GetPointer(3 * static_cast<vtkIdType>(y) * k.width), 3 * k.width,
-                      out.rgb.data() + 3 * static_cast<std::size_t>(k.height - 1 - y) * k.width);
-      }
-      if (o.passes.depth) {
-        vtkNew<vtkFloatArray> z;
-        gl->window->GetZbufferData(0, 0, k.width - 1, k.height - 1, z);
-        out.depth.resize(pixels);
-        for (int y = 0; y < k.height; ++y)
-          for (int x = 0; x < k.width; ++x) {
-            const float d = z->GetValue(static_cast<vtkIdType>(y) * k.width + x);
-            out.depth[static_cast<std::size_t>(k.height - 1 - y) * k.width + x] =
-                d < 1.0f ? static_cast<float>(depthFromBuffer(d, o.near_m, o.far_m)) : 0.0f;
-          }
+      // The colour and depth images (rows top to bottom), and each pixel's daylight share when
+      // some surface in view is in the shade.
+      if (o.passes.rgb)
+        out.rgb = readColour(k);
+      const bool shaded = shade != nullptr && o.daylight && o.passes.rgb;
+      std::vector<float> z;
+      if (o.passes.depth || shaded)
+        z = readDepth(k, o);
+      if (o.passes.depth)
+        out.depth = z;
+      if (shaded) {
+        const std::vector<float> day = daylightShares(k, o, z, T_world_cam);
+        if (std::any_of(day.begin(), day.end(), [](float d) { return d < 1.0f; })) {
+          light(*shade, R);
+          gl->window->Render();
+          const std::vector<std::uint8_t> dark = readColour(k);
+          for (std::size_t i = 0; i < pixels; ++i)
+            for (std::size_t c = 0; c < 3; ++c) {
+              const double a = out.rgb[3 * i + c], b = dark[3 * i + c];
+              out.rgb[3 * i + c] = static_cast<std::uint8_t>(std::lround(b + day[i] * (a - b)));
+            }
+        }
       }
     }
     if (o.passes.semantic || o.passes.instance) {
@@ -720,9 +781,10 @@ Renderer::Renderer(RendererOptions options)
 Renderer::~Renderer() = default;
 
 CameraImages Renderer::render(const scene::SceneWindow& window,
-                              const Eigen::Isometry3d& T_world_cam,
-                              const Lighting& lighting) const {
-  return impl_->thread->run([&] { return impl_->render(options_, window, T_world_cam, lighting); });
+                              const Eigen::Isometry3d& T_world_cam, const Lighting& lighting,
+                              const Lighting* shade) const {
+  return impl_->thread->run(
+      [&] { return impl_->render(options_, window, T_world_cam, lighting, shade); });
 }
 
 }  // namespace trainsim::camera

@@ -25,6 +25,7 @@
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/sensor_params.hpp"
 #include "trainsim/sim/sensor_registry.hpp"
+#include "trainsim/terrain/daylight.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -153,8 +154,10 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "Sun position: noon (south, 55 deg up), morning (east, 15 deg), evening (west, 10 "
              "deg), night (no sun, a faint sky, the train's headlights on) or custom "
              "(sun_azimuth_deg, sun_elevation_deg); a sun under 20 deg reddens the sky's "
-             "horizon and darkens its zenith. In a tunnel, daylight fades out over the first "
-             "50 m from a portal and the headlights light the tube");
+             "horizon and darkens its zenith. Daylight reaches a tunnel's bore only near its "
+             "portals: each surface's share of it falls from 1 at a portal to 0 at 50 m in, "
+             "the headlights light the rest, so a tunnel seen from outside is dark inside and "
+             "the world seen from inside daylit");
     b.number("sun_azimuth_deg", &C::sun_azimuth_rad, units::kDegree,
              "Custom sun azimuth, clockwise from north (world y)")
         .range(0, 360);
@@ -350,7 +353,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         // Relative to the presets' sunny-16 exposure: 1/100 s, ISO 100, f/16.
         exposure_(c.shutter_s / 0.01 * c.iso / 100.0 * std::pow(16.0 / c.f_number, 2),
                   c.read_noise_dn, c.shot_noise_dn),
-        renderer_(rendererOptions(c, lens_ ? lens_->render() : intrinsics_)) {
+        daylight_(tunnelDaylight(setup)),
+        renderer_(rendererOptions(c, lens_ ? lens_->render() : intrinsics_, daylight_)) {
     if (scene_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
@@ -474,9 +478,14 @@ class CameraSensor final : public SensorOf<CameraFrame> {
 
  private:
   // `k`: the pinhole to render with (larger than the image with a lens, see LensRemap).
-  static camera::RendererOptions rendererOptions(const CameraConfig& c,
-                                                 const camera::Intrinsics& k) {
+  static camera::RendererOptions rendererOptions(
+      const CameraConfig& c, const camera::Intrinsics& k,
+      const std::shared_ptr<const terrain::TunnelDaylight>& daylight) {
     camera::RendererOptions o;
+    if (daylight)
+      o.daylight = [daylight](std::span<const Eigen::Vector3d> points, std::span<float> shares) {
+        daylight->shares(points, shares);
+      };
     o.intrinsics = k;
     o.near_m = c.near_m;
     o.far_m = c.far_m;
@@ -545,10 +554,11 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       window.tiles.push_back(std::move(tile));
     }
     CameraFrame out;
-    const camera::Lighting lighting = lightingAt(trajectory_.sample(k).chainage_m);
-    out.images = renderer_.render(window, T, lighting);
+    // Each surface lit as much by the day as reaches it (a tunnel's bore is in the shade), the
+    // fog as it is where the camera is.
+    out.images = renderer_.render(window, T, lighting_, daylight_ ? &tunnel_lighting_ : nullptr);
     if (config_.rgb && config_.fog_visibility_m > 0.0)
-      applyFog(out.images, lighting);  // by the rays of the render's pinhole
+      applyFog(out.images, lightingAt(trajectory_.sample(k).chainage_m));
     if (lens_)
       out.images = lens_->apply(out.images);
     camera::CameraImages& img = out.images;
@@ -629,10 +639,21 @@ class CameraSensor final : public SensorOf<CameraFrame> {
                             f.images.objects, f.images.triangles));
   }
 
-  // Daylight does not reach far into a tunnel: from a portal, the sun's and the sky's light
-  // fade linearly to none 50 m in (a look, not a light-transport model), the train's headlights
-  // light the tube, and the background stays the sky seen through the portals. Outside a
-  // tunnel, the configured lighting as it is.
+  // How much daylight reaches each surface, when the route has tunnels (the tubes' sizes are
+  // the terrain section's).
+  static std::shared_ptr<const terrain::TunnelDaylight> tunnelDaylight(const SensorSetup& setup) {
+    if (setup.context.route == nullptr || setup.context.layout == nullptr)
+      return nullptr;
+    auto d = std::make_shared<const terrain::TunnelDaylight>(
+        *setup.context.route, *setup.context.layout,
+        terrainSection().read(setup.context.scenario.json()));
+    return d->empty() ? nullptr : d;
+  }
+
+  // The light where the camera is, for the fog around it (the surfaces are lit by their own
+  // share of daylight, TunnelDaylight): in a tunnel, the sun's and the sky's light fade
+  // linearly to none 50 m from a portal (a look, not a light-transport model) and the train's
+  // headlights are on; outside, the configured lighting as it is.
   camera::Lighting lightingAt(double front_chainage_m) const {
     const double c = front_chainage_m + camera_ahead_of_front_m_;
     double inside = 0.0;  // metres from the nearer portal, 0 outside
@@ -667,6 +688,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   std::vector<track::Block> tunnels_;     // the main track's tunnel blocks
   double camera_ahead_of_front_m_ = 0.0;  // the camera's chainage past the front pivot's
   camera::Exposure exposure_;
+  std::shared_ptr<const terrain::TunnelDaylight> daylight_;  // null: no tunnel on the route
   camera::Renderer renderer_;
   io::DatasetWriter* writer_ = nullptr;
   io::AppendFile* csv_ = nullptr;

@@ -2,7 +2,9 @@
 // A camera's images of the scene, rendered with VTK into an offscreen OpenGL framebuffer (an X
 // server is needed: Debian's VTK is built for GLX only; see x_display.hpp).
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -61,6 +63,11 @@ struct RendererOptions {
   /// Smooth the colour image's edges with FXAA (VTK's post-process on the colour pass only:
   /// depth, class and instance images stay per pixel, unblended).
   bool fxaa = false;
+  /// The share of daylight reaching each of a render's world points (`shares[i]` for
+  /// `points[i]`: 1 in the open, 0 deep in a tunnel; the points are the pixels' surfaces, row
+  /// by row); empty: daylight everywhere. With it, render()'s `shade` lights what daylight does
+  /// not reach.
+  std::function<void(std::span<const Eigen::Vector3d> points, std::span<float> shares)> daylight;
 };
 
 /// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).
@@ -94,8 +101,14 @@ class Renderer {
   const RendererOptions& options() const { return options_; }
 
   /// `T_world_cam`: the camera's pose (camera axes as camera_model.hpp, world double).
+  /// `shade` (optional, with RendererOptions::daylight): the lighting of surfaces no daylight
+  /// reaches (a tunnel's: the lamps, no sun). Each pixel of the colour image is then the blend
+  /// of the two renders by the daylight share of the surface it shows (its point from the
+  /// depth buffer): light is linear in the share, and VTK casts no shadows to do it instead.
+  /// The second render is made only when some pixel shows a surface daylight does not fully
+  /// reach. The sky is the sky either way.
   CameraImages render(const scene::SceneWindow& window, const Eigen::Isometry3d& T_world_cam,
-                      const Lighting& lighting) const;
+                      const Lighting& lighting, const Lighting* shade = nullptr) const;
 
  private:
   struct Impl;
