@@ -432,8 +432,11 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
   // surface is in daylight, the shade's render where none reaches it, their blend between, and
   // the sky the day's sky.
   const Eigen::Vector3d O(1.0e6, 0.0, 250.0);  // far from the scenario origin
+  // And a wall in daylight (x = 10 m, left of the axis) and one in the shade (x = 60 m, right).
   const auto tile =
-      makeTile(O, {square(Eigen::Vector3d(100.0, 0.0, 0.0), Eigen::Vector3d::UnitZ(), 200.0)});
+      makeTile(O, {square(Eigen::Vector3d(100.0, 0.0, 0.0), Eigen::Vector3d::UnitZ(), 200.0),
+                   square(Eigen::Vector3d(10.0, 3.0, 1.0), -Eigen::Vector3d::UnitX(), 1.0),
+                   square(Eigen::Vector3d(60.0, -8.0, 3.0), -Eigen::Vector3d::UnitX(), 3.0)});
   const auto share = [&](const Eigen::Vector3d& p) {
     return std::clamp((40.0 - (p.x() - O.x())) / 20.0, 0.0, 1.0);
   };
@@ -445,6 +448,9 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
       shares[i] = static_cast<float>(share(points[i]));
   };
   const camera::Renderer shaded(o);
+  // The shade's render drawing only what may be out of daylight (x > 20 m): the same images.
+  o.shade_meets = [&](const scene::Box3d& box) { return box.max.x() > O.x() + 20.0; };
+  const camera::Renderer partly(o);
   const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.0));
   camera::Lighting day, shade;
   shade.sun_intensity = 0.0;
@@ -455,6 +461,7 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
   const camera::CameraImages a = plain.render({{tile}}, T, day);
   const camera::CameraImages b = plain.render({{tile}}, T, shade);
   const camera::CameraImages mixed = shaded.render({{tile}}, T, day, &shade);
+  EXPECT_EQ(partly.render({{tile}}, T, day, &shade).rgb, mixed.rgb);
   // Without a shade, the daylight function changes nothing.
   EXPECT_EQ(shaded.render({{tile}}, T, day).rgb, a.rgb);
   ASSERT_EQ(mixed.rgb.size(), a.rgb.size());

@@ -506,6 +506,28 @@ TEST(TunnelDaylight, FadesFromEachPortalIntoTheBoreAndLeavesTheOpenAndTheHillInD
     shaded += shares[i] < 1.0f;
   }
   EXPECT_GT(shaded, 300);
+  // A box holding a point out of full daylight meets the shade; boxes far from any bore do not.
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (shares[i] < 1.0f) {
+      scene::Box3d box;
+      box.extend(points[i] - Eigen::Vector3d(0.1, 0.2, 0.3));
+      box.extend(points[i] + Eigen::Vector3d(0.3, 0.2, 0.1));
+      EXPECT_TRUE(day.meets(box)) << i;
+    }
+  for (const track::Block& b : w.railway().route().blocks) {
+    if (b.type != track::BlockType::kTunnel)
+      continue;
+    for (const double s : {b.chainage_begin_m - 40.0, b.chainage_end_m + 40.0}) {
+      const track::TrackFrame f = w.railway().frame(0, s);
+      scene::Box3d box;
+      box.extend(f.position - Eigen::Vector3d::Constant(5.0));
+      box.extend(f.position + Eigen::Vector3d::Constant(5.0));
+      EXPECT_FALSE(day.meets(box)) << "in front of a portal at " << s;
+      box.extend(w.railway().frame(0, s < b.chainage_end_m ? s + 60.0 : s - 60.0).position);
+      EXPECT_TRUE(day.meets(box)) << "reaching into the bore from " << s;
+    }
+  }
+  EXPECT_FALSE(day.meets(scene::Box3d{}));
   // A route without tunnels has daylight everywhere.
   const World open =
       makeWorld(Json::parse(R"({"route": {"generator": {"tunnel": {"probability": 0}}}})"));

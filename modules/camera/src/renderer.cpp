@@ -134,6 +134,7 @@ struct DrawnEntry {
   std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive; null: unmade
   std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id, glow;
   bool shares_colour_mapper = false;  // an object's colour actors draw its mesh's mappers
+  int shade = -1;  // whether its box may be out of full daylight (RendererOptions::shade_meets)
   std::uint32_t slot = 0;
   int level = 0;  // this render's
   std::int64_t triangles = 0;
@@ -668,6 +669,11 @@ struct Renderer::Impl {
     const Eigen::Vector3d origin = T_world_cam.translation();
     const Frustum frustum(k, o.near_m, o.far_m, T_world_cam.inverse());
     std::vector<DrawnEntry*> list;
+    // Whether a thing may show in the shade's render (worked out once: things do not move).
+    const auto noteShade = [&](DrawnEntry& e, const scene::Box3d& box) {
+      if (e.shade < 0)
+        e.shade = !o.shade_meets || o.shade_meets(box) ? 1 : 0;
+    };
     for (const auto& tile : window.tiles) {
       for (std::size_t i = 0; i < tile->objects.size(); ++i) {
         const scene::Object& object = tile->objects[i];
@@ -676,16 +682,19 @@ struct Renderer::Impl {
         DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object,
                                     levelOf(object, origin, std::max(k.fx, k.fy), o.lod_pixels));
         place(e, object.linear.cast<double>(), object.position - origin);
+        noteShade(e, object.bounds);
         list.push_back(&e);
         noteInstance(out, e.slot, object.instance);
       }
       for (std::size_t i = 0; i < tile->wires.size(); ++i) {
         const scene::Wire& wire = tile->wires[i];
-        if (o.cull && !frustum.meets(wireBounds(*tile, wire)))
+        const scene::Box3d bounds = wireBounds(*tile, wire);
+        if (o.cull && !frustum.meets(bounds))
           continue;
         DrawnEntry& e = wireEntry(
             {tile->index, static_cast<std::uint32_t>(tile->objects.size() + i)}, tile, wire);
         place(e, Eigen::Matrix3d::Identity(), tile->origin - origin);
+        noteShade(e, bounds);
         list.push_back(&e);
         noteInstance(out, e.slot, wire.instance);
       }
@@ -720,7 +729,10 @@ struct Renderer::Impl {
       // some surface in view is in the shade.
       if (o.passes.rgb)
         out.rgb = readColour(k);
-      const bool shaded = shade != nullptr && o.daylight && o.passes.rgb;
+      // Only a frame in which something drawn may be out of full daylight pays for the shares.
+      const bool shaded =
+          shade != nullptr && o.daylight && o.passes.rgb &&
+          std::any_of(list.begin(), list.end(), [](const DrawnEntry* e) { return e->shade == 1; });
       std::vector<float> z;
       if (o.passes.depth || shaded)
         z = readDepth(k, o);
@@ -729,6 +741,16 @@ struct Renderer::Impl {
       if (shaded) {
         const std::vector<float> day = daylightShares(k, o, z, T_world_cam);
         if (std::any_of(day.begin(), day.end(), [](float d) { return d < 1.0f; })) {
+          // Only what may be in the shade: what a shaded pixel shows is among it, and nothing
+          // else of it lies nearer there (it would have been drawn there by day).
+          actors.clear();
+          for (const DrawnEntry* e : list)
+            if (e->shade == 1) {
+              actors.push_back(e->colourActor());
+              if (vtkActor* glow = e->glowActor())
+                actors.push_back(glow);
+            }
+          show(actors);
           light(*shade, R);
           gl->window->Render();
           const std::vector<std::uint8_t> dark = readColour(k);

@@ -486,6 +486,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       o.daylight = [daylight](std::span<const Eigen::Vector3d> points, std::span<float> shares) {
         daylight->shares(points, shares);
       };
+    if (daylight)
+      o.shade_meets = [daylight](const scene::Box3d& box) { return daylight->meets(box); };
     o.intrinsics = k;
     o.near_m = c.near_m;
     o.far_m = c.far_m;

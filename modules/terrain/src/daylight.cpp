@@ -52,6 +52,7 @@ TunnelDaylight::TunnelDaylight(const track::Route& route, const track::Layout& l
     tube.left_m = left + params.tunnel_half_width_m;
     tube.right_m = right - params.tunnel_half_width_m;
     const double across = std::max(tube.left_m, -tube.right_m);
+    tube.radius_m = std::hypot(across, std::max(tube.crown_m, kBelowRails_m)) + kSpacing_m;
     for (const Sample& q : tube.samples) {
       tube.box.extend(q.position + across * q.left + tube.crown_m * q.up);
       tube.box.extend(q.position - across * q.left - kBelowRails_m * q.up);
@@ -116,6 +117,20 @@ double TunnelDaylight::operator()(const Eigen::Vector3d& world) const {
       return w;
   }
   return 1.0;
+}
+
+bool TunnelDaylight::meets(const scene::Box3d& box) const {
+  if (box.empty())
+    return false;
+  const Eigen::AlignedBox3d b(box.min, box.max);
+  for (const Tube& tube : tubes_) {
+    if (!tube.box.intersects(b))
+      continue;
+    for (const Sample& q : tube.samples)
+      if (b.squaredExteriorDistance(q.position) <= tube.radius_m * tube.radius_m)
+        return true;
+  }
+  return false;
 }
 
 void TunnelDaylight::shares(std::span<const Eigen::Vector3d> world, std::span<float> out) const {

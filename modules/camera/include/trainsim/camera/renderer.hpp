@@ -68,6 +68,10 @@ struct RendererOptions {
   /// by row); empty: daylight everywhere. With it, render()'s `shade` lights what daylight does
   /// not reach.
   std::function<void(std::span<const Eigen::Vector3d> points, std::span<float> shares)> daylight;
+  /// Whether some point of a world box may be out of full daylight (false only where the
+  /// daylight function gives 1 throughout); empty: anywhere. The shade's render draws only the
+  /// things whose boxes may, the rest cannot be what a shaded pixel shows.
+  std::function<bool(const scene::Box3d& box)> shade_meets;
 };
 
 /// A render's images, rows top to bottom, width × height pixels each (empty if not asked for).

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "trainsim/scene/mesh.hpp"
 #include "trainsim/terrain/terrain.hpp"
 #include "trainsim/track/layout.hpp"
 #include "trainsim/track/route.hpp"
@@ -32,6 +33,9 @@ class TunnelDaylight {
   bool empty() const { return tubes_.empty(); }
   /// The share of daylight at a world point, 0..1.
   double operator()(const Eigen::Vector3d& world) const;
+  /// Whether some point of a world box may be out of full daylight: false only where the
+  /// share is 1 all over the box (conservative: a box near a bore's end may still be all day).
+  bool meets(const scene::Box3d& box) const;
   /// The shares at many points (`out[i]` for `world[i]`): the same numbers, faster for points
   /// near each other in turn (a picture's pixels row by row), whose nearest track samples are
   /// looked for from the previous point's.
@@ -47,6 +51,7 @@ class TunnelDaylight {
     double left_m = 0.0, right_m = 0.0;  // the bore's sides from the main track (+ left)
     double crown_m = 0.0;
     Eigen::AlignedBox3d box;  // every point of the bore lies in it
+    double radius_m = 0.0;    // no point of the bore is farther from its nearest sample
     std::vector<Sample> samples;
   };
   // The share at `world` in `tube`, or none (−1) outside its bore; `hint`: the sample to look
