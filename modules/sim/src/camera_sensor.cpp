@@ -353,7 +353,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         // Relative to the presets' sunny-16 exposure: 1/100 s, ISO 100, f/16.
         exposure_(c.shutter_s / 0.01 * c.iso / 100.0 * std::pow(16.0 / c.f_number, 2),
                   c.read_noise_dn, c.shot_noise_dn),
-        daylight_(tunnelDaylight(setup)),
+        // At night a tunnel is lit as the open line is (the lamps, a faint sky): no shade.
+        daylight_(c.daytime == Daytime::kNight ? nullptr : tunnelDaylight(setup)),
         renderer_(rendererOptions(c, lens_ ? lens_->render() : intrinsics_, daylight_)) {
     if (scene_ == nullptr || instances_ == nullptr)
       throw RuntimeError(
