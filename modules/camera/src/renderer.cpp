@@ -119,6 +119,9 @@ struct MeshLevel {
   vtkSmartPointer<vtkPolyData> lit, glow;     // when some part emits: the two halves; else null
   vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by the objects
   vtkSmartPointer<vtkPolyDataMapper> glow_mapper;  // the same for what emits
+  // The shade's render's (RendererOptions::daylight): its own, so that neither pass's mappers
+  // see another property or light set than the last time and rebuild their buffers or shaders.
+  vtkSmartPointer<vtkPolyDataMapper> shade_mapper;
   std::int64_t triangles = 0;
 };
 
@@ -133,6 +136,7 @@ struct MeshEntry {
 struct DrawnEntry {
   std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive; null: unmade
   std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id, glow;
+  std::array<vtkSmartPointer<vtkActor>, kLevels> shaded;  // the shade's render's colour actors
   bool shares_colour_mapper = false;  // an object's colour actors draw its mesh's mappers
   int shade = -1;  // whether its box may be out of full daylight (RendererOptions::shade_meets)
   std::uint32_t slot = 0;
@@ -141,7 +145,8 @@ struct DrawnEntry {
   std::uint64_t used = 0;
   vtkActor* colourActor() const { return colour[level]; }
   vtkActor* idActor() const { return id[level]; }
-  vtkActor* glowActor() const { return glow[level]; }  // null when nothing of it emits
+  vtkActor* glowActor() const { return glow[level]; }     // null when nothing of it emits
+  vtkActor* shadeActor() const { return shaded[level]; }  // null until made (shadeEntry())
 };
 
 vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* array) {
@@ -267,6 +272,8 @@ void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& 
   e.idActor()->SetUserMatrix(m);
   if (vtkActor* glow = e.glowActor())
     glow->SetUserMatrix(m);
+  if (vtkActor* shaded = e.shadeActor())
+    shaded->SetUserMatrix(m);
 }
 
 // The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
@@ -334,6 +341,7 @@ struct Renderer::Impl {
     // The colour pass's, the id pass's, and the colour pass's for what emits light and for
     // wires (see actor() and render()).
     vtkNew<vtkProperty> lit, unlit, glow, wire;
+    vtkNew<vtkProperty> lit_shade, wire_shade;  // the same for the shade's render
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
     std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
@@ -367,7 +375,8 @@ struct Renderer::Impl {
     gl->sun->SetLightTypeToSceneLight();
     gl->sun->SetPositional(false);
     gl->renderer->AddLight(gl->sun);
-    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get(), gl->wire.Get()}) {
+    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get(), gl->wire.Get(),
+                           gl->lit_shade.Get(), gl->wire_shade.Get()}) {
       p->SetInterpolationToFlat();
       p->SetSpecular(0.0);
     }
@@ -375,6 +384,8 @@ struct Renderer::Impl {
     gl->glow->LightingOff();   // a lamp: its emission colour whatever the lights
     gl->wire->LightingOff();   // shaded by one factor per render (render())
     gl->wire->SetDiffuse(0.0);
+    gl->wire_shade->LightingOff();
+    gl->wire_shade->SetDiffuse(0.0);
     vtkCamera* cam = gl->renderer->GetActiveCamera();
     cam->SetPosition(0.0, 0.0, 0.0);
     cam->SetClippingRange(o.near_m, o.far_m);
@@ -484,12 +495,24 @@ struct Renderer::Impl {
     return e;
   }
 
+  // The entry's colour actor for the shade's render at its level, made on first use (an
+  // object's draws its mesh level's shade mapper).
+  void shadeEntry(DrawnEntry& e, const std::shared_ptr<const scene::Mesh>& mesh) {
+    if (e.shaded[e.level])
+      return;
+    MeshLevel& m = gl->meshes.at(mesh.get()).levels[e.level];
+    if (!m.shade_mapper)
+      m.shade_mapper = colourMapper(m.lit ? m.lit : m.poly, "albedo");
+    e.shaded[e.level] = actor(m.shade_mapper, gl->lit_shade);
+  }
+
   DrawnEntry& wireEntry(std::pair<scene::TileIndex, std::uint32_t> key,
                         const std::shared_ptr<const scene::Tile>& tile, const scene::Wire& wire) {
     DrawnEntry& e = entry(key, tile);
     if (!e.colour[0]) {
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
       e.colour[0] = actor(colourMapper(poly, "albedo"), gl->wire);
+      e.shaded[0] = actor(colourMapper(poly, "albedo"), gl->wire_shade);
       e.id[0] = actor(colourMapper(poly, "id"), gl->unlit);
     }
     return e;
@@ -498,8 +521,9 @@ struct Renderer::Impl {
   // Frees an entry's OpenGL buffers (a shared mesh's go with the mesh's entry) and its slot.
   void drop(DrawnEntry& e) {
     for (int l = 0; l < kLevels; ++l) {
-      if (e.colour[l] && !e.shares_colour_mapper)
-        e.colour[l]->ReleaseGraphicsResources(gl->window);
+      for (vtkActor* a : {e.colour[l].Get(), e.shaded[l].Get()})
+        if (a != nullptr && !e.shares_colour_mapper)
+          a->ReleaseGraphicsResources(gl->window);
       if (e.id[l])
         e.id[l]->ReleaseGraphicsResources(gl->window);
     }
@@ -518,7 +542,8 @@ struct Renderer::Impl {
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
         for (MeshLevel& m : it->second.levels)
-          for (vtkPolyDataMapper* mapper : {m.mapper.Get(), m.glow_mapper.Get()})
+          for (vtkPolyDataMapper* mapper :
+               {m.mapper.Get(), m.glow_mapper.Get(), m.shade_mapper.Get()})
             if (mapper != nullptr)
               mapper->ReleaseGraphicsResources(gl->window);
         it = gl->meshes.erase(it);
@@ -582,14 +607,16 @@ struct Renderer::Impl {
   }
 
   // Sets the colour pass's lights and sky: the sun, the sky's share, the spots.
-  void light(const Lighting& lighting, const Eigen::Matrix3d& R_world_cam) {
-    gl->lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
-    gl->lit->SetDiffuse(1.0 - lighting.ambient);
+  // `lit` and `wire`: the pass's properties (each pass has its own: modifying one makes every
+  // mapper drawing with it rebuild its buffers).
+  void light(const Lighting& lighting, const Eigen::Matrix3d& R_world_cam, vtkProperty* lit,
+             vtkProperty* wire) {
+    lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
+    lit->SetDiffuse(1.0 - lighting.ambient);
     // A wire is a line, which has no normal for VTK to light: it is shaded by one factor, the
     // sky's light and half the sun's (the mean over a thin cylinder's faces, roughly), so it
     // is dark at night instead of drawn at its full colour.
-    gl->wire->SetAmbient(lighting.ambient +
-                         0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
+    wire->SetAmbient(lighting.ambient + 0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
     gl->sun->SetPosition(lighting.sun_direction.data());
     gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
     // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would
@@ -681,8 +708,10 @@ struct Renderer::Impl {
           continue;
         DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object,
                                     levelOf(object, origin, std::max(k.fx, k.fy), o.lod_pixels));
-        place(e, object.linear.cast<double>(), object.position - origin);
         noteShade(e, object.bounds);
+        if (e.shade == 1 && shade != nullptr && o.daylight)
+          shadeEntry(e, object.mesh);
+        place(e, object.linear.cast<double>(), object.position - origin);
         list.push_back(&e);
         noteInstance(out, e.slot, object.instance);
       }
@@ -723,7 +752,7 @@ struct Renderer::Impl {
       }
       show(actors);
       ren->SetUseFXAA(o.fxaa && o.passes.rgb);
-      light(lighting, R);
+      light(lighting, R, gl->lit, gl->wire);
       gl->window->Render();
       // The colour and depth images (rows top to bottom), and each pixel's daylight share when
       // some surface in view is in the shade.
@@ -746,12 +775,13 @@ struct Renderer::Impl {
           actors.clear();
           for (const DrawnEntry* e : list)
             if (e->shade == 1) {
-              actors.push_back(e->colourActor());
+              if (vtkActor* a = e->shadeActor())
+                actors.push_back(a);
               if (vtkActor* glow = e->glowActor())
                 actors.push_back(glow);
             }
           show(actors);
-          light(*shade, R);
+          light(*shade, R, gl->lit_shade, gl->wire_shade);
           gl->window->Render();
           const std::vector<std::uint8_t> dark = readColour(k);
           for (std::size_t i = 0; i < pixels; ++i)

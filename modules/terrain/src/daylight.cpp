@@ -13,9 +13,10 @@ constexpr double kSpacing_m = 2.0;
 // Samples skipped by the coarse search for the nearest (kSpacing_m × kStride = 16 m: a curve
 // of the tightest radius turns by 3° over it, so the nearest coarse sample is within a stride).
 constexpr std::size_t kStride = 8;
-// Margins around the bore: above the crown (the lining's thickness), below the rails (the
-// invert under the track bed).
-constexpr double kAboveCrown_m = 0.5, kBelowRails_m = 3.0;
+// Margins around the bore's surfaces (the lining lies within the tube's half width and crown,
+// the invert at the formation): a pixel's point from the depth buffer is off by millimetres,
+// and a wall on the bore's edge must not come out half in daylight.
+constexpr double kMargin_m = 0.5;
 
 }  // namespace
 
@@ -32,7 +33,8 @@ TunnelDaylight::TunnelDaylight(const track::Route& route, const track::Layout& l
     Tube tube;
     tube.begin_m = b.chainage_begin_m;
     tube.end_m = b.chainage_end_m;
-    tube.crown_m = params.tunnel_crown_m + kAboveCrown_m;
+    tube.crown_m = params.tunnel_crown_m + kMargin_m;
+    tube.floor_m = -(params.formation_depth_m + 1.0 + kMargin_m);
     double left = 0.0, right = 0.0;  // the outermost tracks' offsets
     const auto n = static_cast<std::size_t>(std::ceil((tube.end_m - tube.begin_m) / kSpacing_m));
     for (std::size_t i = 0; i <= n; ++i) {
@@ -49,14 +51,14 @@ TunnelDaylight::TunnelDaylight(const track::Route& route, const track::Layout& l
         right = std::min(right, offset);
       }
     }
-    tube.left_m = left + params.tunnel_half_width_m;
-    tube.right_m = right - params.tunnel_half_width_m;
+    tube.left_m = left + params.tunnel_half_width_m + kMargin_m;
+    tube.right_m = right - params.tunnel_half_width_m - kMargin_m;
     const double across = std::max(tube.left_m, -tube.right_m);
-    tube.radius_m = std::hypot(across, std::max(tube.crown_m, kBelowRails_m)) + kSpacing_m;
+    tube.radius_m = std::hypot(across, std::max(tube.crown_m, -tube.floor_m)) + kSpacing_m;
     for (const Sample& q : tube.samples) {
       tube.box.extend(q.position + across * q.left + tube.crown_m * q.up);
-      tube.box.extend(q.position - across * q.left - kBelowRails_m * q.up);
-      tube.box.extend(q.position + across * q.left - kBelowRails_m * q.up);
+      tube.box.extend(q.position - across * q.left + tube.floor_m * q.up);
+      tube.box.extend(q.position + across * q.left + tube.floor_m * q.up);
       tube.box.extend(q.position - across * q.left + tube.crown_m * q.up);
     }
     tubes_.push_back(std::move(tube));
@@ -104,7 +106,7 @@ double TunnelDaylight::share(const Tube& tube, const Eigen::Vector3d& world,
   const double s = q.chainage_m + d.dot(q.tangent);
   const double across = d.dot(q.left), up = d.dot(q.up);
   if (s <= tube.begin_m || s >= tube.end_m || across > tube.left_m || across < tube.right_m ||
-      up > tube.crown_m || up < -kBelowRails_m)
+      up > tube.crown_m || up < tube.floor_m)
     return -1.0;
   const double inside = std::min(s - tube.begin_m, tube.end_m - s);
   return std::clamp(1.0 - inside / reach_m_, 0.0, 1.0);

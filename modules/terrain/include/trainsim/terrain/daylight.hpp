@@ -15,7 +15,8 @@ namespace trainsim::terrain {
 /// The share of daylight (the sun's and the sky's light) that reaches a point: 1 in the open,
 /// falling linearly from a tunnel's portal to 0 at `reach_m` inside its bore. The bore is the
 /// tube's space: past a portal along the main track, within `tunnel_half_width_m` beyond the
-/// outermost tracks through the tunnel, below `tunnel_crown_m` (and the cover over it). A look,
+/// outermost tracks through the tunnel, between the formation and `tunnel_crown_m` (with half a
+/// metre's margin, so that the lining on the tube's edge is never half out of it). A look,
 /// not light transport (the renderer draws no shadows), so that a tunnel seen from outside is
 /// dark inside and the world seen from inside lit, as a per-surface factor rather than one for
 /// the whole picture. Immutable; thread-safe.
@@ -47,11 +48,11 @@ class TunnelDaylight {
     double chainage_m = 0.0;
   };
   struct Tube {
-    double begin_m = 0.0, end_m = 0.0;   // main chainage of the portals
-    double left_m = 0.0, right_m = 0.0;  // the bore's sides from the main track (+ left)
-    double crown_m = 0.0;
-    Eigen::AlignedBox3d box;  // every point of the bore lies in it
-    double radius_m = 0.0;    // no point of the bore is farther from its nearest sample
+    double begin_m = 0.0, end_m = 0.0;    // main chainage of the portals
+    double left_m = 0.0, right_m = 0.0;   // the bore's sides from the main track (+ left)
+    double crown_m = 0.0, floor_m = 0.0;  // the bore's top and bottom over the rails
+    Eigen::AlignedBox3d box;              // every point of the bore lies in it
+    double radius_m = 0.0;                // no point of the bore is farther from its nearest sample
     std::vector<Sample> samples;
   };
   // The share at `world` in `tube`, or none (−1) outside its bore; `hint`: the sample to look
