@@ -483,12 +483,12 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       const CameraConfig& c, const camera::Intrinsics& k,
       const std::shared_ptr<const terrain::TunnelDaylight>& daylight) {
     camera::RendererOptions o;
-    if (daylight)
+    if (daylight) {
       o.daylight = [daylight](std::span<const Eigen::Vector3d> points, std::span<float> shares) {
         daylight->shares(points, shares);
       };
-    if (daylight)
       o.shade_meets = [daylight](const scene::Box3d& box) { return daylight->meets(box); };
+    }
     o.intrinsics = k;
     o.near_m = c.near_m;
     o.far_m = c.far_m;
