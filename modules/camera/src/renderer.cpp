@@ -765,8 +765,6 @@ struct Renderer::Impl {
       std::vector<float> z;
       if (o.passes.depth || shaded)
         z = readDepth(k, o);
-      if (o.passes.depth)
-        out.depth = z;
       if (shaded) {
         const std::vector<float> day = daylightShares(k, o, z, T_world_cam);
         if (std::any_of(day.begin(), day.end(), [](float d) { return d < 1.0f; })) {
@@ -791,6 +789,8 @@ struct Renderer::Impl {
             }
         }
       }
+      if (o.passes.depth)
+        out.depth = std::move(z);
     }
     if (o.passes.semantic || o.passes.instance) {
       actors.resize(list.size());
