@@ -1,8 +1,9 @@
 // The LiDAR's costs on the default scene: a 64 × 2048 frame (uniform pattern, +2° to −24.8°,
 // noise and motion distortion on) on 2 threads against Embree's raw traversal of exactly the
 // same rays in the same run (ranges only, no labels, normals, intensity or output order), the
-// ways rays can be handed to Embree (packets of 8, one by one, a stream), the ISA cap, instanced
-// against flattened trees, and frame time and memory 1 km and 100 km along a route.
+// ways rays can be handed to Embree (packets of 8 along a ring or down a column, one by one, a
+// stream), the ISA cap, instanced against flattened trees, and frame time and memory 1 km and
+// 100 km along a route.
 //
 //   bench_lidar [--quick | --profile | --route [KM]]   (--quick: the default scene only;
 //   --profile: one frame of the default scene cast 200 times, alternating with its raw
@@ -76,26 +77,60 @@ struct FrameCost {
   double frame_ms = 0.0;  // the whole frame: rays, traversal, labels, intensity, noise, order
   double raw_ms = 0.0;    // Embree's traversal of the same rays in packets of 8
   double single_ms = 0.0, stream_ms = 0.0;
+  double by_column_ms = 0.0;  // packets of 8 lasers of one column, 16 columns a task
   std::size_t points = 0;
   std::size_t instances = 0;
 };
 
-// Raw traversal of `rays` split as the scanner splits them (16 columns a task).
-double rawTraversal(tbb::task_arena& arena, const lidar::RayScene& scene,
-                    const std::vector<lidar::Ray>& rays, std::size_t lasers,
+// Raw traversal of `rays` split as the scanner splits them (each ring in runs of
+// Scanner::columnsPerTask() columns).
+double rawTraversal(tbb::task_arena& arena, const lidar::Scanner& scanner,
+                    const lidar::RayScene& scene, const std::vector<lidar::Ray>& rays,
                     lidar::RayScene::Traversal mode) {
   // Kept from call to call, as the frame keeps its memory (one caller at a time).
   static std::vector<float> kept;
   kept.resize(rays.size());
   const std::span<float> ranges(kept);
-  const int columns = static_cast<int>(rays.size() / lasers);
+  const auto W = static_cast<std::size_t>(scanner.params().pattern.columns);
+  const auto N = static_cast<std::size_t>(scanner.params().sub_rays);
+  const std::size_t per_ring = scanner.tasksPerRing(), columns = scanner.columnsPerTask();
   const auto t0 = Clock::now();
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, columns, 16), [&](const auto& r) {
-      const std::size_t first = static_cast<std::size_t>(r.begin()) * lasers;
-      const std::size_t n = static_cast<std::size_t>(r.size()) * lasers;
-      scene.traverse(std::span(rays).subspan(first, n), std::span(ranges).subspan(first, n), mode);
+    tbb::parallel_for(std::size_t{0}, rays.size() / (W * N) * per_ring, [&](std::size_t t) {
+      const std::size_t ring = t / per_ring, begin = t % per_ring * columns;
+      const std::size_t first = (ring * W + begin) * N,
+                        n = (std::min(W, begin + columns) - begin) * N;
+      scene.traverse(std::span(rays).subspan(first, n), ranges.subspan(first, n), mode);
     });
+  });
+  return ms(t0);
+}
+
+// The same rays column by column (each column's rings in turn, 16 columns a task) in packets
+// of 8: how the scanner cast them before its tasks were runs of one ring.
+double columnMajorTraversal(tbb::task_arena& arena, const lidar::Scanner& scanner,
+                            const lidar::RayScene& scene, const std::vector<lidar::Ray>& rays) {
+  const auto W = static_cast<std::size_t>(scanner.params().pattern.columns);
+  const auto N = static_cast<std::size_t>(scanner.params().sub_rays);
+  const std::size_t rings = rays.size() / (W * N);
+  std::vector<lidar::Ray> by_column(rays.size());
+  for (std::size_t r = 0; r < rings; ++r)
+    for (std::size_t c = 0; c < W; ++c)
+      std::copy_n(&rays[(r * W + c) * N], N, &by_column[(c * rings + r) * N]);
+  static std::vector<float> kept;
+  kept.resize(rays.size());
+  const std::span<float> ranges(kept);
+  const std::size_t per_task = 16 * rings * N;
+  const auto t0 = Clock::now();
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, (rays.size() + per_task - 1) / per_task, 1),
+        [&](const auto& t) {
+          const std::size_t first = t.begin() * per_task;
+          const std::size_t n = std::min(per_task, rays.size() - first);
+          scene.traverse(std::span(by_column).subspan(first, n), ranges.subspan(first, n),
+                         lidar::RayScene::Traversal::kPacket8);
+        });
   });
   return ms(t0);
 }
@@ -104,21 +139,21 @@ FrameCost measure(tbb::task_arena& arena, const lidar::Scanner& scanner,
                   const lidar::RayScene& scene, const lidar::PoseAt& pose, bool all_modes) {
   const RandomStream random(1, "bench");
   FrameCost c;
-  std::vector<double> frame, raw, single, stream;
+  std::vector<double> frame, raw, single, stream, by_column;
   const std::vector<lidar::Ray> rays = scanner.rays(scene, pose);
-  const std::size_t lasers = scanner.params().pattern.lasers.size();
   lidar::LidarFrame f;  // reused, as the run reuses its frames
   for (int r = 0; r < kRepeats; ++r) {
     auto t0 = Clock::now();
     arena.execute([&] { scanner.scan(scene, pose, random, 0, f); });
     frame.push_back(ms(t0));
     c.points = f.points.size();
-    raw.push_back(rawTraversal(arena, scene, rays, lasers, lidar::RayScene::Traversal::kPacket8));
+    raw.push_back(rawTraversal(arena, scanner, scene, rays, lidar::RayScene::Traversal::kPacket8));
     if (all_modes) {
       single.push_back(
-          rawTraversal(arena, scene, rays, lasers, lidar::RayScene::Traversal::kSingle));
+          rawTraversal(arena, scanner, scene, rays, lidar::RayScene::Traversal::kSingle));
       stream.push_back(
-          rawTraversal(arena, scene, rays, lasers, lidar::RayScene::Traversal::kStream));
+          rawTraversal(arena, scanner, scene, rays, lidar::RayScene::Traversal::kStream));
+      by_column.push_back(columnMajorTraversal(arena, scanner, scene, rays));
     }
   }
   c.frame_ms = median(frame);
@@ -126,6 +161,7 @@ FrameCost measure(tbb::task_arena& arena, const lidar::Scanner& scanner,
   if (all_modes) {
     c.single_ms = median(single);
     c.stream_ms = median(stream);
+    c.by_column_ms = median(by_column);
   }
   c.instances = scene.instanceCount();
   return c;
@@ -362,17 +398,31 @@ int main(int argc, char** argv) {
     lidar::LidarFrame f;
     const std::vector<lidar::Ray> rays = scanner.rays(scene, pose);
     // Frames and raw traversals alternate, so that drifts in the machine's speed hit both.
-    std::vector<double> frame, raw;
+    std::vector<double> frame, raw, labelled;
+    std::vector<lidar::RayHit> hits(rays.size());
     for (int i = 0; i < 200; ++i) {
       const auto t0 = Clock::now();
       arena.execute([&] { scanner.scan(scene, pose, random, 0, f); });
       frame.push_back(ms(t0));
-      raw.push_back(rawTraversal(arena, scene, rays, scanner.params().pattern.lasers.size(),
-                                 lidar::RayScene::Traversal::kPacket8));
+      raw.push_back(
+          rawTraversal(arena, scanner, scene, rays, lidar::RayScene::Traversal::kPacket8));
+      // The traversal with the hits' labels and normals, as the frame casts (its part of the
+      // frame's extra time).
+      const auto t1 = Clock::now();
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), scanner.columnsPerTask()),
+                          [&](const auto& r) {
+                            scene.intersect(std::span(rays).subspan(r.begin(), r.size()),
+                                            std::span(hits).subspan(r.begin(), r.size()));
+                          });
+      });
+      labelled.push_back(ms(t1));
     }
     fmt::print(
-        "{} points; median of 200: {:.2f} ms a frame, raw traversal {:.2f} ms, ratio {:.3f}\n",
-        f.points.size(), median(frame), median(raw), median(frame) / median(raw));
+        "{} points; median of 200: {:.2f} ms a frame, raw traversal {:.2f} ms, ratio {:.3f}; "
+        "traversal with labels {:.2f} ms ({:.3f} x raw)\n",
+        f.points.size(), median(frame), median(raw), median(frame) / median(raw), median(labelled),
+        median(labelled) / median(raw));
     return 0;
   }
 
@@ -408,17 +458,19 @@ int main(int argc, char** argv) {
 
   // How rays are handed to Embree, on one typical frame per kilometre.
   fmt::print(
-      "\nRaw traversal by how rays reach Embree (same rays, same split, ms):\n\n"
-      "| at (m) | packets of 8 | one by one | stream (rtcIntersect1M) | frame | frame / packets |\n"
-      "|---|---|---|---|---|---|\n");
+      "\nRaw traversal by how rays reach Embree (same rays, same split, ms; packets of 8 "
+      "neighbouring columns of one laser are the scanner's way):\n\n"
+      "| at (m) | packets of 8 | one by one | stream (rtcIntersect1M) | packets of 8 lasers of a "
+      "column | frame | frame / packets |\n"
+      "|---|---|---|---|---|---|---|\n");
   {
     auto stream = def.stage->environment->stream(16);
     lidar::RayWorld world;
     for (double x = 500.0; x < 6000.0; x += 1000.0) {
       FrameCost c;
       walk(def, *stream, world, arena, scanner, x, x + 1.0, 10.0, true, &c);
-      fmt::print("| {:.0f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} |\n", x, c.raw_ms,
-                 c.single_ms, c.stream_ms, c.frame_ms, c.frame_ms / c.raw_ms);
+      fmt::print("| {:.0f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.3f} |\n", x, c.raw_ms,
+                 c.single_ms, c.stream_ms, c.by_column_ms, c.frame_ms, c.frame_ms / c.raw_ms);
     }
   }
   // Beam divergence: sub-rays per pulse against wire returns and time (2.25 mrad, strongest

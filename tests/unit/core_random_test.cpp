@@ -121,15 +121,17 @@ TEST(RandomStream, DistinctStreamsAreUncorrelated) {
   EXPECT_NEAR(sxy / n, 0.0, 5.0 / std::sqrt(n));
 }
 
-// The keyed ziggurat: moments, tails against the normal CDF, and purity in (seed, stream, index).
-TEST(RandomStream, ZigguratNormalsMatchTheNormalDistribution) {
+// The keyed ziggurats (64 and 32 bits a deviate): moments, tails against the normal CDF, and
+// purity in (seed, stream, index).
+void expectZigguratNormals(void (RandomStream::*normals)(std::uint64_t, double*, std::size_t)
+                               const) {
   const RandomStream s(11, "zig");
   const int n = 2'000'000;
   double sum = 0, sum2 = 0, sum4 = 0;
   int beyond2 = 0, beyond3 = 0, beyond4 = 0;
   for (int i = 0; i < n / 4; ++i) {
     double x[4];
-    s.normals(static_cast<std::uint64_t>(i), x, 4);
+    (s.*normals)(static_cast<std::uint64_t>(i), x, 4);
     for (double v : x) {
       sum += v;
       sum2 += v * v;
@@ -151,11 +153,34 @@ TEST(RandomStream, ZigguratNormalsMatchTheNormalDistribution) {
   expectTail(beyond3, 3);
   expectTail(beyond4, 4);
   double a[5], b[5], c[5];
-  s.normals(77, a, 5);
-  RandomStream(11, "zig").normals(77, b, 5);
-  RandomStream(12, "zig").normals(77, c, 5);
+  (s.*normals)(77, a, 5);
+  (RandomStream(11, "zig").*normals)(77, b, 5);
+  (RandomStream(12, "zig").*normals)(77, c, 5);
   EXPECT_TRUE(std::equal(a, a + 5, b));
   EXPECT_FALSE(std::equal(a, a + 5, c));
+}
+
+TEST(RandomStream, ZigguratNormalsMatchTheNormalDistribution) {
+  expectZigguratNormals(&RandomStream::normals);
+}
+
+TEST(RandomStream, CompactZigguratNormalsMatchTheNormalDistribution) {
+  expectZigguratNormals(&RandomStream::compactNormals);
+  // Two deviates a word: the first of n does not depend on n, and adjacent pairs are not
+  // correlated (each half of a word is its own deviate).
+  const RandomStream s(3, "pairs");
+  double one[1], nine[9];
+  s.compactNormals(5, one, 1);
+  s.compactNormals(5, nine, 9);
+  EXPECT_EQ(one[0], nine[0]);
+  const int pairs = 500'000;
+  double sxy = 0;
+  for (int i = 0; i < pairs; ++i) {
+    double x[2];
+    s.compactNormals(static_cast<std::uint64_t>(i), x, 2);
+    sxy += x[0] * x[1];
+  }
+  EXPECT_NEAR(sxy / pairs, 0.0, 5.0 / std::sqrt(pairs));
 }
 
 TEST(RandomCursor, SavedPositionContinuesTheSameSequence) {

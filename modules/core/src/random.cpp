@@ -86,12 +86,13 @@ class Words {
   unsigned lane_ = 4;
 };
 
-double zigguratNormal(Words& words) {
+// One ziggurat deviate from draws of (hz, iz): hz a signed value scaled to 2^31, iz the layer
+// (independent bits); rejections take further draws and words.
+template <typename Draw>
+double zigguratNormal(Words& words, Draw draw) {
   const Ziggurat& z = kZiggurat;
   for (;;) {
-    const std::uint64_t word = words.next();
-    const auto hz = static_cast<std::int32_t>(static_cast<std::uint32_t>(word >> 32));
-    const std::size_t iz = word & 127u;
+    const auto [hz, iz] = draw();
     const std::uint32_t mag = hz < 0 ? static_cast<std::uint32_t>(-(static_cast<std::int64_t>(hz)))
                                      : static_cast<std::uint32_t>(hz);
     const double x = hz * z.w[iz];
@@ -111,12 +112,43 @@ double zigguratNormal(Words& words) {
   }
 }
 
+struct Draw {
+  std::int32_t hz;
+  std::size_t iz;
+};
+
+// A 32-bit draw: the layer from the low 7 bits, the value from the 25 above them.
+Draw halfDraw(std::uint32_t h) {
+  return {static_cast<std::int32_t>(h & ~127u), h & 127u};
+}
+
 }  // namespace
 
 void RandomStream::normals(std::uint64_t index, double* out, std::size_t n) const {
   Words words(*this, index);
+  const auto draw = [&words] {
+    const std::uint64_t word = words.next();
+    return Draw{static_cast<std::int32_t>(static_cast<std::uint32_t>(word >> 32)), word & 127u};
+  };
   for (std::size_t i = 0; i < n; ++i)
-    out[i] = zigguratNormal(words);
+    out[i] = zigguratNormal(words, draw);
+}
+
+void RandomStream::compactNormals(std::uint64_t index, double* out, std::size_t n) const {
+  Words words(*this, index);
+  std::uint64_t word = 0;
+  bool high = false;  // the current word's high half is still to be used
+  const auto draw = [&] {
+    if (high) {
+      high = false;
+      return halfDraw(static_cast<std::uint32_t>(word >> 32));
+    }
+    word = words.next();
+    high = true;
+    return halfDraw(static_cast<std::uint32_t>(word));
+  };
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = zigguratNormal(words, draw);
 }
 
 void RandomCursor::refill(Kind kind) {

@@ -7,8 +7,12 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numbers>
+#include <numeric>
+
+#include <emmintrin.h>
 
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
@@ -16,27 +20,31 @@
 namespace trainsim::lidar {
 namespace {
 
-constexpr std::uint64_t kColumnBits = 20;  // random keys: frame << 20 | column
+// Random keys: (frame << 16 | laser) << 16 | column / 8 for the noise (eight columns' draws
+// from one Philox block), frame << 16 | laser for the dropout.
+constexpr std::uint64_t kLaserBits = 16, kGroupBits = 16;
+constexpr std::size_t kNoiseGroup = 8;
 
-// Columns handed to one task: enough rays for coherent packets and little scheduling.
-constexpr int kColumnGrain = 16;
+// Rays handed to one task: enough for coherent packets, few enough that a scan is split into
+// many tasks and can be cancelled between them.
+constexpr std::size_t kTaskRays = 2048;
 
 // Columns between the poses asked of the caller (the ones between are interpolated).
 constexpr int kPoseStep = 16;
 
 // A monotonic stand-in for the azimuth atan2(y, x) mapped to [0, 2π): 0 on +x, rising
-// counter-clockwise to 4 just before it (the "diamond angle"). It orders points exactly as
-// the azimuth does, with one division instead of an atan2. y = −0 counts as on +x, as the
-// quadrant rule (y ≥ 0) counts it. Never negative (−0 comes out as +0), so the float's bits
-// order as the value does.
-float pseudoAzimuth(float xf, float yf) {
-  const double x = xf, y = yf;
-  const double d = std::abs(x) + std::abs(y);
-  if (d == 0.0)
+// counter-clockwise to 4 just before it (the "diamond angle"). It orders points as the azimuth
+// does, with one division instead of an atan2 (in float: points less than about 1e-7 rad apart
+// may tie or swap, which nothing downstream can tell). y = −0 counts as on +x, as the quadrant
+// rule (y ≥ 0) counts it. Never negative (−0 comes out as +0), so the float's bits order as the
+// value does.
+float pseudoAzimuth(float x, float y) {
+  const float d = std::abs(x) + std::abs(y);
+  if (d == 0.0f)
     return 0.0f;
-  const double r = y / d;
-  const double a = x >= 0.0 ? r : 2.0 - r;
-  return static_cast<float>(a < 0.0 ? a + 4.0 : a) + 0.0f;
+  const float r = y / d;
+  const float a = x >= 0.0f ? r : 2.0f - r;
+  return (a < 0.0f ? a + 4.0f : a) + 0.0f;
 }
 
 // A slot's key when it holds no return.
@@ -183,25 +191,27 @@ std::size_t selectReturns(std::vector<Echo>& echoes, const LidarParams& params) 
 }  // namespace
 
 // A frame's working memory, reused from frame to frame (allocating and zeroing a few MB per
-// frame cost as much as the traversal): every slot's point and its key (kNoReturn for none),
-// slots ring by ring; per ring its returns in output order.
+// frame cost as much as the traversal): each column's poses, every slot's point and its key
+// (kNoReturn for none), slots ring by ring (ring r's from r W R on, column by column); per ring
+// its returns in output order; per task the returns it found.
 struct Scanner::Scratch {
+  std::vector<Eigen::Isometry3d> poses;   // per column: the sensor at its firing
+  std::vector<Eigen::Isometry3f> deskew;  // per column: from its firing to the frame time
   std::vector<LidarPoint> points;
   std::vector<float> coverage;  // with divergence only
   std::vector<float> keys;
+  std::vector<std::size_t> found;                   // per task
   std::vector<std::vector<std::uint64_t>> order;    // per ring: key bits << 32 | slot
   std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
 };
 
-// One task's working memory: its columns' poses, rays and hits (a few tens of kB, still in the
-// core's cache when the returns are worked out from them), reused from task to task rather than
-// held for the whole frame.
+// One task's working memory: its rays, hits and draws (a few tens of kB, in the core's cache
+// while its returns are worked out), reused from task to task rather than held for the frame.
 struct Scanner::Block {
   std::vector<Ray> rays;
   std::vector<RayHit> hits;
-  std::vector<Eigen::Isometry3d> poses;  // per column
-  std::vector<double> noise;
-  std::vector<std::uint8_t> kept;  // per laser: 0 where dropout takes the column's pulse
+  std::vector<double> noise;       // [column][return]
+  std::vector<std::uint8_t> kept;  // per column: 0 where dropout takes the pulse
   std::vector<SubHit> sub;
   std::vector<Echo> echoes;
 };
@@ -210,36 +220,44 @@ Scanner::~Scanner() = default;
 
 std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   auto s = std::make_unique<Scratch>();
-  const auto slots = static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse());
-  s->points.resize(slots);
+  const auto W = static_cast<std::size_t>(params_.pattern.columns);
+  const std::size_t rings = params_.pattern.lasers.size();
+  s->poses.resize(W);
+  s->deskew.resize(W);
+  s->points.resize(static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse()));
   if (params_.sub_rays > 1)
-    s->coverage.resize(slots);
-  s->keys.resize(slots);
-  s->order.resize(params_.pattern.lasers.size());
+    s->coverage.resize(s->points.size());
+  s->keys.resize(s->points.size());
+  s->found.resize(rings * tasksPerRing());
+  s->order.resize(rings);
   for (auto& o : s->order)
-    o.reserve(slots / params_.pattern.lasers.size());
-  s->buckets.assign(
-      params_.pattern.lasers.size(),
-      std::vector<std::uint32_t>(static_cast<std::size_t>(params_.pattern.columns) + 1));
+    o.reserve(s->points.size() / rings);
+  s->buckets.assign(rings, std::vector<std::uint32_t>(W + 1));
   return s;
+}
+
+std::size_t Scanner::tasksPerRing() const {
+  const auto W = static_cast<std::size_t>(params_.pattern.columns);
+  return (W + task_columns_ - 1) / task_columns_;
 }
 
 Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   const ScanPattern& p = params_.pattern;
-  // The limits of LidarPoint's fields (and of the random keys' column bits).
-  static_assert((1 << kColumnBits) > std::numeric_limits<std::uint16_t>::max());
+  // The limits of LidarPoint's fields (and of the random keys' laser bits).
+  static_assert((1 << kLaserBits) > std::numeric_limits<std::uint16_t>::max());
   if (p.columns < 1 || p.columns > std::numeric_limits<std::uint16_t>::max() || p.lasers.empty() ||
       p.lasers.size() > std::numeric_limits<std::uint16_t>::max())
     throw ConfigError("LiDAR pattern: columns must be 1..65535 and lasers 1..65535");
   if (scene::materials().size() > std::numeric_limits<std::uint8_t>::max() + 1u)
     throw RuntimeError("LiDAR: a point holds a material id in a byte; the table has more");
   const std::size_t L = p.lasers.size();
-  directions_.resize(static_cast<std::size_t>(p.columns) * L);
-  for (int c = 0; c < p.columns; ++c)
-    for (std::size_t l = 0; l < L; ++l) {
-      const double a = p.azimuthDeg(c, static_cast<int>(l)) * kRadPerDeg;
+  const auto W = static_cast<std::size_t>(p.columns);
+  directions_.resize(W * L);
+  for (std::size_t l = 0; l < L; ++l)
+    for (std::size_t c = 0; c < W; ++c) {
+      const double a = p.azimuthDeg(static_cast<int>(c), static_cast<int>(l)) * kRadPerDeg;
       const double e = p.lasers[l].elevation_deg * kRadPerDeg;
-      directions_[static_cast<std::size_t>(c) * L + l] =
+      directions_[l * W + c] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
     }
   if (params_.vehicle && params_.vehicle->box.contains(params_.vehicle->sensor_pose.translation()))
@@ -251,6 +269,13 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
     reach_.push_back(static_cast<float>(reach(d)));
   }
   ring_lasers_ = p.ringLasers();
+  // Columns a task casts of one ring: about kTaskRays rays, at least a packet's worth of pulses,
+  // a multiple of the noise's groups, and at least 32 tasks a frame where the pattern has them
+  // (a pattern of few rings is split along them).
+  const std::size_t per_pulse = static_cast<std::size_t>(std::max(1, params_.sub_rays));
+  std::size_t columns = std::min(W, std::max<std::size_t>(kTaskRays / per_pulse, 1));
+  columns = std::min(columns, std::max<std::size_t>(W * L / 32, 1));
+  task_columns_ = std::min(W, (columns + kNoiseGroup - 1) / kNoiseGroup * kNoiseGroup);
   for (const scene::Material& m : scene::materials())
     backscatter_.emplace_back(m);
   if (params_.sub_rays < 1 || params_.sub_rays > 1024 || !(params_.divergence_rad >= 0.0))
@@ -297,24 +322,29 @@ double Scanner::reach(const Eigen::Vector3d& direction) const {
   return std::max(enter, params_.pattern.range_min_m);
 }
 
-void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3d& origin,
-                         Ray* out) const {
+void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
+                        const Eigen::Isometry3d* poses, const Eigen::Vector3d& origin,
+                        Ray* out) const {
   const ScanPattern& p = params_.pattern;
-  const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
+  const auto W = static_cast<std::size_t>(p.columns), l = static_cast<std::size_t>(laser);
   const auto t_near = static_cast<float>(p.range_min_m), t_far = static_cast<float>(p.range_max_m);
-  const std::size_t L = p.lasers.size(), n = footprint_.size();
+  const std::size_t n = footprint_.size();
   if (n == 1) {
-    // The beams' axes, rotated in float: a rotation keeps them unit to float precision (a few
+    // The beam's axes, rotated in float: a rotation keeps them unit to float precision (a few
     // 1e-7, 0.04 mm at 200 m), so there is nothing to normalise.
-    const Eigen::Matrix3f rotation = T.linear().cast<float>();
-    const Eigen::Vector3f* axes = &axes_[static_cast<std::size_t>(c) * L];
-    const float* reach = &reach_[static_cast<std::size_t>(c) * L];
-    for (std::size_t l = 0; l < L; ++l)
-      out[l] = {o, rotation * axes[l], t_near, reach[l]};
+    const Eigen::Vector3f* axes = &axes_[l * W];
+    const float* reach = &reach_[l * W];
+    for (std::size_t c = begin; c < end; ++c) {
+      const Eigen::Isometry3d& T = poses[c];
+      out[c - begin] = {(T.translation() - origin).cast<float>(),
+                        T.linear().cast<float>() * axes[c], t_near, reach[c]};
+    }
     return;
   }
-  for (std::size_t l = 0; l < L; ++l) {
-    const Eigen::Vector3d& d = direction(c, static_cast<int>(l));
+  for (std::size_t c = begin; c < end; ++c) {
+    const Eigen::Isometry3d& T = poses[c];
+    const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
+    const Eigen::Vector3d& d = direction(static_cast<int>(c), laser);
     // Across the beam: v horizontal (azimuth increasing), u = d × v (elevation increasing).
     Eigen::Vector3d v(-d.y(), d.x(), 0.0);
     v = v.norm() > 1e-9 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d::UnitY();
@@ -326,20 +356,20 @@ void Scanner::columnRays(int c, const Eigen::Isometry3d& T, const Eigen::Vector3
           angle == 0.0 ? d
                        : Eigen::Vector3d(std::cos(angle) * d +
                                          std::sin(angle) / angle * (f.x() * v + f.y() * u));
-      out[l * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near,
-                        params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
+      out[(c - begin) * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near,
+                                  params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
     }
   }
 }
 
 std::vector<Ray> Scanner::rays(const RayScene& scene, const PoseAt& pose) const {
-  const std::size_t per_column = params_.pattern.lasers.size() * footprint_.size();
-  std::vector<Ray> out(static_cast<std::size_t>(params_.pattern.columns) * per_column);
-  std::vector<Eigen::Isometry3d> poses;
-  columnPoses(pose, pose(0.0), 0, params_.pattern.columns, poses);
-  for (int c = 0; c < params_.pattern.columns; ++c)
-    columnRays(c, poses[static_cast<std::size_t>(c)], scene.origin(),
-               &out[static_cast<std::size_t>(c) * per_column]);
+  const auto W = static_cast<std::size_t>(params_.pattern.columns);
+  const std::size_t per_ring = W * footprint_.size();
+  std::vector<Ray> out(ring_lasers_.size() * per_ring);
+  std::vector<Eigen::Isometry3d> poses(W);
+  columnPoses(pose, pose(0.0), 0, params_.pattern.columns, poses.data());
+  for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
+    pulseRays(ring_lasers_[r], 0, W, poses.data(), scene.origin(), &out[r * per_ring]);
   return out;
 }
 
@@ -359,16 +389,35 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   const Eigen::Isometry3d frame_pose = pose(0.0);
   const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
   std::atomic<bool> cancelled = false;
-  tbb::parallel_for(tbb::blocked_range<int>(0, p.columns, kColumnGrain), [&](const auto& range) {
-    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
-      cancelled.store(true, std::memory_order_relaxed);
+  const auto stop = [&] {
+    if (cancel == nullptr || !cancel->load(std::memory_order_relaxed))
+      return false;
+    cancelled.store(true, std::memory_order_relaxed);
+    return true;
+  };
+  // Each column's pose at its firing, and the deskewing from there to the sensor at the frame
+  // time (in float: a point is within the sensor's range of it).
+  tbb::parallel_for(tbb::blocked_range<int>(0, p.columns, 4 * kPoseStep), [&](const auto& range) {
+    if (stop())
       return;
-    }
-    std::unique_ptr<Block> block = blocks_.take();
-    castColumns(scene, pose, frame_pose, world_to_frame, random, frame, range.begin(), range.end(),
-                *block, w);
-    blocks_.give(std::move(block));
+    columnPoses(pose, frame_pose, range.begin(), range.end(), &w.poses[range.begin()]);
+    for (int c = range.begin(); c < range.end(); ++c)
+      w.deskew[c] = (world_to_frame * w.poses[c]).cast<float>();
   });
+  // Each ring in runs of columns: a task's rays go to Embree in packets of neighbouring
+  // columns of one laser (rays eight columns apart meet the same surfaces far more often than
+  // eight lasers of one column do: the traversal takes about two thirds of the time).
+  const std::size_t rings = ring_lasers_.size(), per_ring = tasksPerRing();
+  if (!cancelled.load())
+    tbb::parallel_for(std::size_t{0}, rings * per_ring, [&](std::size_t t) {
+      if (stop())
+        return;
+      const std::size_t ring = t / per_ring, begin = t % per_ring * task_columns_;
+      std::unique_ptr<Block> block = blocks_.take();
+      w.found[t] = castColumns(scene, random, frame, ring, begin,
+                               std::min(W, begin + task_columns_), *block, w);
+      blocks_.give(std::move(block));
+    });
   if (cancelled.load()) {
     scratch_.give(std::move(scratch));
     throw Cancelled("run cancelled during a LiDAR scan");
@@ -377,29 +426,30 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   // KITTI order: ring by ring, each by the azimuth of its written coordinates (points whose
   // float keys are equal, by slot: by column). Each ring sorts (key, slot) words, not the points,
   // and not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
-  const std::size_t rings = ring_lasers_.size();
   std::vector<std::size_t> first(rings + 1, 0);
-  tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
-    first[r + 1] = orderRing(w.keys.data() + r * W * R, W, R, w.order[r], w.buckets[r]);
-  });
   for (std::size_t r = 0; r < rings; ++r)
-    first[r + 1] += first[r];
+    first[r + 1] = first[r] + std::accumulate(w.found.begin() + r * per_ring,
+                                              w.found.begin() + (r + 1) * per_ring, std::size_t{0});
   out.rays = raysPerFrame();
   out.points.resize(first[rings]);
   const bool divergent = !w.coverage.empty();
   out.coverage.resize(divergent ? first[rings] : 0);
   out.instances = scene.instances();
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
-    const LidarPoint* from = w.points.data() + r * W * R;
-    LidarPoint* to = out.points.data() + first[r];
     const std::vector<std::uint64_t>& order = w.order[r];
+    const std::size_t n = orderRing(w.keys.data() + r * W * R, W, R, w.order[r], w.buckets[r]);
+    const LidarPoint* from = w.points.data() + r * W * R;
+    auto* to = reinterpret_cast<__m128i*>(out.points.data() + first[r]);
     // A gather: each point is asked for well before it is copied, so that the copy does not
-    // wait on the memory one point at a time.
+    // wait on the memory one point at a time; as two 16-byte moves (copied as a LidarPoint, it
+    // went field by field). The tasks counted the ring's returns as the sort does.
     constexpr std::size_t kAhead = 16;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      if (k + kAhead < order.size())
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k + kAhead < n)
         __builtin_prefetch(from + (order[k + kAhead] & 0xFFFFFFFFu));
-      *to++ = from[order[k] & 0xFFFFFFFFu];
+      const auto* point = reinterpret_cast<const __m128i*>(from + (order[k] & 0xFFFFFFFFu));
+      _mm_store_si128(to++, _mm_load_si128(point));
+      _mm_store_si128(to++, _mm_load_si128(point + 1));
     }
     if (divergent) {
       const float* share = w.coverage.data() + r * W * R;
@@ -411,129 +461,146 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   scratch_.give(std::move(scratch));
 }
 
-// Everything below reads the scanner's settings from locals: the uint8 stores into the points
-// may alias anything, so values read through `this` or a captured reference would be loaded
-// again after every store.
-void Scanner::castColumns(const RayScene& scene, const PoseAt& pose,
-                          const Eigen::Isometry3d& frame_pose,
-                          const Eigen::Isometry3d& world_to_frame, const RandomStream& random,
-                          std::uint64_t frame, int begin, int end, Block& b, Scratch& w) const {
+// Writes a point with two 16-byte stores rather than a store per field.
+static void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
+                       std::uint32_t object, std::uint16_t column, std::uint16_t ring,
+                       scene::ClassId cls, std::uint8_t material, std::uint8_t return_index) {
+  static_assert(offsetof(LidarPoint, xyz) == 0 && offsetof(LidarPoint, intensity) == 12 &&
+                offsetof(LidarPoint, range_m) == 16 && offsetof(LidarPoint, object) == 20 &&
+                offsetof(LidarPoint, column) == 24 && offsetof(LidarPoint, ring) == 26 &&
+                offsetof(LidarPoint, cls) == 28 && offsetof(LidarPoint, material) == 30 &&
+                offsetof(LidarPoint, return_index) == 31 && sizeof(scene::ClassId) == 2);
+  auto* out = reinterpret_cast<__m128i*>(&to);
+  _mm_store_si128(out, _mm_castps_si128(_mm_setr_ps(xyz.x(), xyz.y(), xyz.z(), intensity)));
+  _mm_store_si128(out + 1,
+                  _mm_setr_epi32(std::bit_cast<int>(range_m), static_cast<int>(object),
+                                 static_cast<int>(column | static_cast<std::uint32_t>(ring) << 16),
+                                 static_cast<int>(cls | static_cast<std::uint32_t>(material) << 16 |
+                                                  static_cast<std::uint32_t>(return_index) << 24)));
+}
+
+// Everything below reads the scanner's settings from locals: stores into the points may alias
+// anything, so values read through `this` or a captured reference would be loaded again after
+// every store.
+std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& random,
+                                 std::uint64_t frame, std::size_t ring, std::size_t begin,
+                                 std::size_t end, Block& b, Scratch& w) const {
   const ScanPattern& p = params_.pattern;
-  const std::size_t L = p.lasers.size(), W = static_cast<std::size_t>(p.columns);
+  const auto l = static_cast<std::size_t>(ring_lasers_[ring]);
+  const std::size_t W = static_cast<std::size_t>(p.columns), columns = end - begin;
   const std::size_t N = footprint_.size(), R = static_cast<std::size_t>(returnsPerPulse());
   const double sigma0 = params_.range_sigma_m, sigma1 = params_.range_sigma_slope;
-  const double range_min = p.range_min_m, range_max = p.range_max_m;
   const double threshold = params_.intensity_threshold, dropout = params_.dropout;
+  const auto range_min = static_cast<float>(p.range_min_m),
+             range_max = static_cast<float>(p.range_max_m);
   const bool noisy = sigma0 > 0.0 || sigma1 > 0.0, falloff = params_.range_falloff;
   const bool compensated = params_.motion_compensated;
   const IntensityScale scale = params_.scale;
   const Backscatter* backscatter = backscatter_.data();
-  const Laser* lasers = p.lasers.data();
-  float* keys = w.keys.data();
-  LidarPoint* points = w.points.data();
-  float* coverages = w.coverage.data();
-  const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
+  const auto ring_id = static_cast<std::uint16_t>(ring);
 
-  const auto columns = static_cast<std::size_t>(end - begin);
-  b.rays.resize(columns * L * N);
-  b.hits.resize(columns * L * N);
-  b.noise.assign(L * R, 0.0);
-  b.kept.assign(L, 1);
-  columnPoses(pose, frame_pose, begin, end, b.poses);
-  for (int c = begin; c < end; ++c)
-    columnRays(c, b.poses[static_cast<std::size_t>(c - begin)], scene.origin(),
-               &b.rays[static_cast<std::size_t>(c - begin) * L * N]);
+  b.rays.resize(columns * N);
+  b.hits.resize(columns * N);
+  pulseRays(static_cast<int>(l), begin, end, w.poses.data(), scene.origin(), b.rays.data());
   scene.intersect(std::span<const Ray>(b.rays), std::span<RayHit>(b.hits));
+
+  // The laser's random draws, keyed by frame, laser and column (so the same for any split into
+  // tasks: a task begins on a noise group).
+  const std::uint64_t key = (frame << kLaserBits) | l;
+  b.noise.assign(columns * R, 0.0);
+  if (noisy)
+    for (std::size_t c = begin; c < end; c += kNoiseGroup)
+      random.compactNormals((key << kGroupBits) | (c / kNoiseGroup), &b.noise[(c - begin) * R],
+                            std::min(kNoiseGroup, end - c) * R);
+  b.kept.assign(columns, 1);
+  if (dropout > 0.0) {  // one draw of four uniforms serves four columns
+    const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
+    for (std::size_t c = begin; c < end; c += 4) {
+      const std::array<double, 4> u = dropout_random.uniform4(key, c / 4);
+      for (std::size_t k = 0; k < 4 && c + k < end; ++k)
+        b.kept[c - begin + k] = u[k] > dropout;
+    }
+  }
   const Ray* rays = b.rays.data();
   const RayHit* hits = b.hits.data();
   const double* noise = b.noise.data();
   const std::uint8_t* kept = b.kept.data();
+  const Eigen::Isometry3f* deskew = w.deskew.data();
+  const Eigen::Vector3f* axes = &axes_[l * W];
+  const Eigen::Vector3d* directions = &directions_[l * W];
+  LidarPoint* points = w.points.data() + ring * W * R;
+  float* keys = w.keys.data() + ring * W * R;
+  float* coverages = N > 1 ? w.coverage.data() + ring * W * R : nullptr;
+  std::size_t found = 0;
+
+  // Writes slot c R + j of the ring, return j of column c: the echo at `truth` m with
+  // reflectivity `rho`, if `ok` and its noisy range is within limits; otherwise marks the slot
+  // empty. The point's fields are written either way (an empty slot's are never read).
+  const auto put = [&](std::size_t c, std::size_t j, double truth, double rho, const RayHit& label,
+                       bool ok) {
+    const std::size_t slot = c * R + j;
+    const auto range_m =
+        static_cast<float>(truth + (sigma0 + sigma1 * truth) * noise[(c - begin) * R + j]);
+    ok = ok && range_m >= range_min && range_m <= range_max;
+    const Eigen::Vector3f xyz = deskew[c] * (axes[c] * range_m);
+    storePoint(points[slot], xyz, static_cast<float>(scaledIntensity(rho, range_m, falloff, scale)),
+               range_m, label.object, static_cast<std::uint16_t>(c), ring_id, label.cls,
+               static_cast<std::uint8_t>(label.material), static_cast<std::uint8_t>(j));
+    // Ordered by the coordinates the dataset writes: as Scanner::written() gives them.
+    const Eigen::Vector3f written =
+        compensated ? xyz : (directions[c] * static_cast<double>(range_m)).cast<float>();
+    keys[slot] = ok ? pseudoAzimuth(written.x(), written.y()) : kNoReturn;
+    found += ok ? 1 : 0;
+  };
+
+  if (N == 1) {
+    // One ray a pulse (no divergence), the common case: its hit is the only echo, dropped past
+    // the material's maximum incidence angle, when too faint, or by chance. A miss (infinite
+    // range, no normal) comes out as no return.
+    for (std::size_t c = begin; c < end; ++c) {
+      const RayHit& h = hits[c - begin];
+      const double cos_theta =
+          std::abs(h.normal.cast<double>().dot(rays[c - begin].direction.cast<double>()));
+      const double rho = backscatter[h.material](cos_theta);
+      put(c, 0, h.range, rho, h, h.hit() && rho > 0.0 && rho >= threshold && kept[c - begin] != 0);
+      for (std::size_t j = 1; j < R; ++j)
+        keys[c * R + j] = kNoReturn;
+    }
+    return found;
+  }
   std::vector<Echo>& echoes = b.echoes;
-  for (int c = begin; c < end; ++c) {
-    const auto i = static_cast<std::size_t>(c - begin);
-    const std::uint64_t key = (frame << kColumnBits) | static_cast<std::uint64_t>(c);
-    if (noisy)
-      random.normals(key, b.noise.data(), L * R);
-    if (dropout > 0.0)  // one draw of four uniforms serves four lasers
-      for (std::size_t l = 0; l < L; l += 4) {
-        const std::array<double, 4> u = dropout_random.uniform4(key, l / 4);
-        for (std::size_t k = 0; k < 4 && l + k < L; ++k)
-          b.kept[l + k] = u[k] > dropout;
-      }
-    // From the sensor at this column's firing to the sensor at the frame time.
-    const Eigen::Isometry3d deskew = world_to_frame * b.poses[i];
-    const Eigen::Vector3d* axes = &directions_[static_cast<std::size_t>(c) * L];
-    // Writes slot `slot` of laser l: the echo at `truth` m with reflectivity `rho`, if `ok` and
-    // its noisy range is within limits; otherwise marks the slot empty. The point's fields are
-    // written either way (an empty slot's are never read).
-    const auto put = [&](std::size_t l, std::size_t slot, std::size_t j, double truth, double rho,
-                         const RayHit& label, bool ok) {
-      const auto range_m = static_cast<float>(truth + (sigma0 + sigma1 * truth) * noise[j * L + l]);
-      ok = ok && range_m >= range_min && range_m <= range_max;
-      LidarPoint& pt = points[slot];
-      // From the range as written, so that Scanner::measured() gives these coordinates back.
-      const Eigen::Vector3d raw = axes[l] * static_cast<double>(range_m);
-      pt.xyz = (deskew * raw).cast<float>();
-      pt.intensity = static_cast<float>(scaledIntensity(rho, range_m, falloff, scale));
-      pt.range_m = range_m;
-      pt.object = label.object;
-      pt.column = static_cast<std::uint16_t>(c);
-      pt.ring = static_cast<std::uint16_t>(lasers[l].ring);
-      pt.cls = label.cls;
-      pt.material = static_cast<std::uint8_t>(label.material);
-      pt.return_index = static_cast<std::uint8_t>(j);
-      const Eigen::Vector3f written = compensated ? pt.xyz : raw.cast<float>();
-      keys[slot] = ok ? pseudoAzimuth(written.x(), written.y()) : kNoReturn;
-    };
-    for (std::size_t l = 0; l < L; ++l) {
-      // Slots ring by ring, so that ordering reads each ring straight through.
-      const std::size_t slot0 = (static_cast<std::size_t>(lasers[l].ring) * W + c) * R;
-      const std::size_t base = (i * L + l) * N;
-      if (N == 1) {
-        // One ray a pulse (no divergence), the common case: its hit is the only echo, dropped
-        // past the material's maximum incidence angle, when too faint, or by chance. A miss
-        // (infinite range, no normal) comes out as no return.
-        const RayHit& h = hits[base];
-        const double cos_theta =
-            std::abs(h.normal.cast<double>().dot(rays[base].direction.cast<double>()));
-        const double rho = backscatter[h.material](cos_theta);
-        put(l, slot0, 0, h.range, rho, h, h.hit() && rho > 0.0 && rho >= threshold && kept[l] != 0);
-        for (std::size_t j = 1; j < R; ++j)
-          keys[slot0 + j] = kNoReturn;
+  for (std::size_t c = begin; c < end; ++c) {
+    const std::size_t base = (c - begin) * N;
+    // The pulse's sub-ray hits with their backscatter, grouped into echoes.
+    b.sub.clear();
+    for (std::size_t k = 0; k < N; ++k) {
+      const RayHit& h = hits[base + k];
+      if (!h.hit())
         continue;
-      }
-      // The pulse's sub-ray hits with their backscatter, grouped into echoes.
-      b.sub.clear();
-      for (std::size_t k = 0; k < N; ++k) {
-        const RayHit& h = hits[base + k];
-        if (!h.hit())
-          continue;
-        const double cos_theta =
-            std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
-        b.sub.push_back(
-            {&h, rays[base + k].direction, h.range, backscatter[h.material](cos_theta)});
-      }
-      std::size_t chosen = 0;
-      if (!b.sub.empty() && kept[l] != 0) {
-        echoesOf(b.sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
-        chosen = selectReturns(echoes, params_);  // 0 when none is bright enough
-      }
-      for (std::size_t j = 0; j < R; ++j) {
-        if (j < chosen) {
-          put(l, slot0 + j, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label, true);
-          coverages[slot0 + j] = static_cast<float>(echoes[j].coverage);
-        } else
-          keys[slot0 + j] = kNoReturn;
-      }
+      const double cos_theta =
+          std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
+      b.sub.push_back({&h, rays[base + k].direction, h.range, backscatter[h.material](cos_theta)});
+    }
+    std::size_t chosen = 0;
+    if (!b.sub.empty() && kept[c - begin] != 0) {
+      echoesOf(b.sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
+      chosen = selectReturns(echoes, params_);  // 0 when none is bright enough
+    }
+    for (std::size_t j = 0; j < R; ++j) {
+      if (j < chosen) {
+        put(c, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label, true);
+        coverages[c * R + j] = static_cast<float>(echoes[j].coverage);
+      } else
+        keys[c * R + j] = kNoReturn;
     }
   }
+  return found;
 }
 
 void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin,
-                          int end, std::vector<Eigen::Isometry3d>& out) const {
-  out.clear();
+                          int end, Eigen::Isometry3d* out) const {
   if (!params_.motion_distortion) {
-    out.assign(static_cast<std::size_t>(end - begin), frame_pose);
+    std::fill(out, out + (end - begin), frame_pose);
     return;
   }
   // The pose is asked for at every kPoseStep-th column and interpolated in between (position
@@ -559,7 +626,7 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
     }
     const int k = c - first;
     if (k == 0) {
-      out.push_back(a);
+      *out++ = a;
       continue;
     }
     const double u = static_cast<double>(k) / kPoseStep;
@@ -568,7 +635,7 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
     T.linear() = Eigen::Quaterniond((1.0 - u) * qa.coeffs() + u * qz.coeffs())
                      .normalized()
                      .toRotationMatrix();
-    out.push_back(T);
+    *out++ = T;
   }
 }
 

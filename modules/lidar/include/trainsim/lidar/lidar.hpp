@@ -118,13 +118,14 @@ class Scanner {
   int returnsPerPulse() const { return params_.returns == LidarParams::Returns::kDual ? 2 : 1; }
   /// Direction of laser l's ray in column c, sensor frame, unit.
   const Eigen::Vector3d& direction(int column, int laser) const {
-    return directions_[static_cast<std::size_t>(column) * params_.pattern.lasers.size() +
-                       static_cast<std::size_t>(laser)];
+    return directions_[static_cast<std::size_t>(laser) *
+                           static_cast<std::size_t>(params_.pattern.columns) +
+                       static_cast<std::size_t>(column)];
   }
 
-  /// Casts one frame, columns split across the TBB workers of the calling arena. Random draws
-  /// come from `random` keyed by (frame, column), so the frame is the same for any number of
-  /// threads.
+  /// Casts one frame, each ring's columns split across the TBB workers of the calling arena.
+  /// Random draws come from `random` keyed by (frame, laser, column), so the frame is the same
+  /// for any number of threads.
   LidarFrame scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
                   std::uint64_t frame) const;
   /// The same into `out`, reusing its memory: a caller that scans frame after frame keeps one
@@ -133,9 +134,11 @@ class Scanner {
   /// many sub-rays can take minutes, and Ctrl-C should not wait for it.
   void scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
             std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel = nullptr) const;
-  /// The rays scan() casts, in the same order (column by column, each column's lasers in
-  /// firing order, each laser's sub-rays): for the benchmark's raw traversal of exactly the same
-  /// rays.
+  /// Tasks a ring is cast in (each of columnsPerTask() columns, the last what is left).
+  std::size_t tasksPerRing() const;
+  std::size_t columnsPerTask() const { return task_columns_; }
+  /// The rays scan() casts, in the same order (ring by ring, each ring's columns in firing
+  /// order, each pulse's sub-rays): for the benchmark's raw traversal of exactly the same rays.
   std::vector<Ray> rays(const RayScene& scene, const PoseAt& pose) const;
   /// A point's firing time after the frame time, seconds.
   float time(const LidarPoint& p) const {
@@ -156,28 +159,31 @@ class Scanner {
 
  private:
   int laser(const LidarPoint& p) const { return ring_lasers_[p.ring]; }
-  /// Column c's rays from `pose`, relative to `origin`.
-  void columnRays(int column, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
-                  Ray* out) const;
-  /// The sensor's poses at the firings of columns [begin, end).
+  /// Laser `laser`'s rays in columns [begin, end), from the columns' `poses`, relative to
+  /// `origin`.
+  void pulseRays(int laser, std::size_t begin, std::size_t end, const Eigen::Isometry3d* poses,
+                 const Eigen::Vector3d& origin, Ray* out) const;
+  /// The sensor's poses at the firings of columns [begin, end), into out[0, end − begin).
   void columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin, int end,
-                   std::vector<Eigen::Isometry3d>& out) const;
+                   Eigen::Isometry3d* out) const;
 
   LidarParams params_;
-  std::vector<Eigen::Vector3d> directions_;  // column-major: [column][laser]
+  std::vector<Eigen::Vector3d> directions_;  // laser-major: [laser][column]
   std::vector<Eigen::Vector3f> axes_;        // the same in float, for the rays
-  std::vector<float> reach_;                 // each beam axis's reach(), [column][laser]
+  std::vector<float> reach_;                 // each beam axis's reach(), [laser][column]
   std::vector<Eigen::Vector2d> footprint_;   // sub-ray offsets (rad) across and along the beam
   std::vector<int> ring_lasers_;             // the laser of each ring
+  std::size_t task_columns_ = 0;             // columns of one ring a task casts
   std::vector<Backscatter> backscatter_;     // by material id
 
   struct Scratch;
   struct Block;
   std::unique_ptr<Scratch> makeScratch() const;
-  /// Casts columns [begin, end) and works out their returns into the frame's slots.
-  void castColumns(const RayScene& scene, const PoseAt& pose, const Eigen::Isometry3d& frame_pose,
-                   const Eigen::Isometry3d& world_to_frame, const RandomStream& random,
-                   std::uint64_t frame, int begin, int end, Block& block, Scratch& w) const;
+  /// Casts columns [begin, end) of ring `ring` and works out their returns into the frame's
+  /// slots; returns how many there are.
+  std::size_t castColumns(const RayScene& scene, const RandomStream& random, std::uint64_t frame,
+                          std::size_t ring, std::size_t begin, std::size_t end, Block& block,
+                          Scratch& w) const;
   mutable ObjectPool<Scratch> scratch_;  // one per frame scanned at once
   mutable ObjectPool<Block> blocks_;     // one per task running at once
 };
