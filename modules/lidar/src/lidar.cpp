@@ -50,12 +50,23 @@ float pseudoAzimuth(float x, float y) {
 // A slot's key when it holds no return.
 constexpr float kNoReturn = -1.0f;
 
-// Orders one ring's slots (`columns` × `returns` keys, kNoReturn where there is no return) by
-// key, ties by slot, into `order` as key bits << 32 | slot; returns how many there are. A
-// counting sort into one bucket per column's width of azimuth, then an insertion sort that only
-// has to order the few entries sharing a bucket: linear time.
-std::size_t orderRing(const float* keys, std::size_t columns, std::size_t returns,
-                      std::vector<std::uint64_t>& order, std::vector<std::uint32_t>& start) {
+// Copies a point as two 16-byte moves (copied as a LidarPoint, it went field by field).
+void copyPoint(const LidarPoint& from, LidarPoint& to) {
+  const auto* f = reinterpret_cast<const __m128i*>(&from);
+  auto* t = reinterpret_cast<__m128i*>(&to);
+  _mm_store_si128(t, _mm_load_si128(f));
+  _mm_store_si128(t + 1, _mm_load_si128(f + 1));
+}
+
+// Orders one ring's slots (`columns` × `returns` keys, kNoReturn where there is no return, and
+// their points `from`) by key, ties by slot: the points into `to`, and `order` as key bits << 32
+// | slot; returns how many there are. A counting sort into one bucket per column's width of
+// azimuth, moving each point as it is placed, then an insertion sort that only has to order
+// the few entries sharing a bucket: linear time, and the points are read and written once,
+// each in one sweep.
+std::size_t orderRing(const float* keys, const LidarPoint* from, std::size_t columns,
+                      std::size_t returns, std::vector<std::uint64_t>& order,
+                      std::vector<std::uint32_t>& start, LidarPoint* to) {
   const std::size_t slots = columns * returns;
   std::fill(start.begin(), start.end(), 0u);
   const auto scale = static_cast<float>(columns) / 4.0f;
@@ -72,14 +83,22 @@ std::size_t orderRing(const float* keys, std::size_t columns, std::size_t return
     start[b + 1] += start[b];
   order.resize(n);
   // Filled from the last slot back: a ring's azimuth falls column by column, so each bucket
-  // then fills in rising order and the insertion sort has next to nothing to do.
-  for (std::size_t s = slots; s-- > 0;)
-    if (keys[s] >= 0.0f)
-      order[start[bucket(keys[s])]++] =
-          static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(keys[s])) << 32 | s;
+  // then fills in rising order, the points go out nearly in sequence, and the insertion sort
+  // has next to nothing to do.
+  for (std::size_t s = slots; s-- > 0;) {
+    if (s >= 16)  // the points are read from memory, not cache: ask for them well ahead
+      __builtin_prefetch(from + s - 16);
+    if (keys[s] >= 0.0f) {
+      const std::uint32_t at = start[bucket(keys[s])]++;
+      order[at] = static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(keys[s])) << 32 | s;
+      copyPoint(from[s], to[at]);
+    }
+  }
   for (std::size_t i = 1; i < n; ++i)
-    for (std::size_t j = i; j > 0 && order[j] < order[j - 1]; --j)
+    for (std::size_t j = i; j > 0 && order[j] < order[j - 1]; --j) {
       std::swap(order[j], order[j - 1]);
+      std::swap(to[j], to[j - 1]);
+    }
   return n;
 }
 
@@ -437,20 +456,9 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   out.instances = scene.instances();
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
     const std::vector<std::uint64_t>& order = w.order[r];
-    const std::size_t n = orderRing(w.keys.data() + r * W * R, W, R, w.order[r], w.buckets[r]);
-    const LidarPoint* from = w.points.data() + r * W * R;
-    auto* to = reinterpret_cast<__m128i*>(out.points.data() + first[r]);
-    // A gather: each point is asked for well before it is copied, so that the copy does not
-    // wait on the memory one point at a time; as two 16-byte moves (copied as a LidarPoint, it
-    // went field by field). The tasks counted the ring's returns as the sort does.
-    constexpr std::size_t kAhead = 16;
-    for (std::size_t k = 0; k < n; ++k) {
-      if (k + kAhead < n)
-        __builtin_prefetch(from + (order[k + kAhead] & 0xFFFFFFFFu));
-      const auto* point = reinterpret_cast<const __m128i*>(from + (order[k] & 0xFFFFFFFFu));
-      _mm_store_si128(to++, _mm_load_si128(point));
-      _mm_store_si128(to++, _mm_load_si128(point + 1));
-    }
+    // The tasks counted the ring's returns as the sort does.
+    orderRing(w.keys.data() + r * W * R, w.points.data() + r * W * R, W, R, w.order[r],
+              w.buckets[r], out.points.data() + first[r]);
     if (divergent) {
       const float* share = w.coverage.data() + r * W * R;
       float* into = out.coverage.data() + first[r];

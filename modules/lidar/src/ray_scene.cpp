@@ -286,11 +286,31 @@ struct InstInfo {
   std::uint32_t first_object = 0;  // RayHit::object of its first geometry
 };
 
+// What a hit needs of its instance, packed (the lookups of a hit's labels were chains of
+// pointers into several structures, each a likely cache miss).
+struct InstHit {
+  Eigen::Matrix3f normal;  // InstInfo::normal
+  std::uint32_t first_object = 0;
+  bool rotated = false;
+  bool tile = false;  // the geomID picks the object; otherwise the instance is one object
+};
+
+// An object's labels: its class and material, or (meshes of several parts) its parts to look
+// the hit's triangle up in.
+struct ObjectLabel {
+  const scene::MeshPart* parts = nullptr;
+  std::uint32_t part_count = 0;
+  scene::ClassId cls = 0;
+  scene::MaterialId material = 0;
+};
+
 struct RayScene::Impl {
   std::shared_ptr<void> device_keepalive;
   Eigen::Vector3d origin;
   SceneHandle top;
   std::vector<InstInfo> instances;         // by instID
+  std::vector<InstHit> hits;               // by instID
+  std::vector<ObjectLabel> labels;         // by RayHit::object
   std::vector<scene::InstanceId> objects;  // instance ids by RayHit::object
   std::vector<scene::TileIndex> key;
 };
@@ -423,7 +443,7 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
         nx[k] = 1.0f;
         continue;
       }
-      const InstInfo& inst = s.instances[p.hit.instID[0][k]];
+      const InstHit& inst = s.hits[p.hit.instID[0][k]];
       Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
       if (inst.rotated)
         ng = inst.normal * ng;
@@ -431,24 +451,19 @@ void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) cons
       ny[k] = ng.y();
       nz[k] = ng.z();
       h.range = p.ray.tfar[k];
-      const unsigned geom = inst.tile ? p.hit.geomID[k] : 0;
-      const GeomInfo& g = inst.tile ? inst.tile->geoms[geom] : inst.object;
-      h.object = inst.first_object + geom;
-      if (g.mesh == nullptr) {
-        h.cls = g.cls;
-        h.material = g.material;
+      h.object = inst.first_object + (inst.tile ? p.hit.geomID[k] : 0);
+      const ObjectLabel& label = s.labels[h.object];
+      if (label.parts == nullptr) {
+        h.cls = label.cls;
+        h.material = label.material;
         continue;
       }
-      const auto& parts = g.mesh->parts;
       const unsigned prim = p.hit.primID[k];
-      auto it = parts.size() == 1 ? parts.end()
-                                  : std::upper_bound(parts.begin(), parts.end(), prim,
-                                                     [](unsigned t, const scene::MeshPart& part) {
-                                                       return t < part.first_triangle;
-                                                     });
-      const scene::MeshPart& part = *std::prev(it);
-      h.cls = part.cls;
-      h.material = part.material;
+      const scene::MeshPart* part = std::prev(std::upper_bound(
+          label.parts, label.parts + label.part_count, prim,
+          [](unsigned t, const scene::MeshPart& part) { return t < part.first_triangle; }));
+      h.cls = part->cls;
+      h.material = part->material;
     }
     for (std::size_t k = 0; k < 8; k += 4) {
       const __m128 x = _mm_load_ps(nx + k), y = _mm_load_ps(ny + k), z = _mm_load_ps(nz + k);
@@ -617,13 +632,25 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
     info.normal = linear.inverse().transpose();
     info.rotated = !linear.isIdentity(0.0f);
     info.first_object = static_cast<std::uint32_t>(s->objects.size());
+    const auto label = [](const GeomInfo& g) {
+      if (g.mesh == nullptr)
+        return ObjectLabel{nullptr, 0, g.cls, g.material};
+      const auto& parts = g.mesh->parts;
+      if (parts.size() == 1)
+        return ObjectLabel{nullptr, 0, parts[0].cls, parts[0].material};
+      return ObjectLabel{parts.data(), static_cast<std::uint32_t>(parts.size()), 0, 0};
+    };
     if (info.proto) {
       info.object = {info.proto->mesh.get(), 0, 0, info.instance};
       s->objects.push_back(info.instance);
+      s->labels.push_back(label(info.object));
     } else {
-      for (const GeomInfo& geom : info.tile->geoms)
+      for (const GeomInfo& geom : info.tile->geoms) {
         s->objects.push_back(geom.instance);
+        s->labels.push_back(label(geom));
+      }
     }
+    s->hits.push_back({info.normal, info.first_object, info.rotated, info.tile != nullptr});
     s->instances.push_back(std::move(info));
   };
   for (const auto& t : tiles) {
