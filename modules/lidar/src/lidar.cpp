@@ -543,13 +543,16 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
 
   // Writes slot c R + j of the ring, return j of column c: the echo at `truth` m with
   // reflectivity `rho`, if `ok` and its noisy range is within limits; otherwise marks the slot
-  // empty. The point's fields are written either way (an empty slot's are never read).
+  // empty (and leaves its point, which is never read).
   const auto put = [&](std::size_t c, std::size_t j, double truth, double rho, const RayHit& label,
                        bool ok) {
     const std::size_t slot = c * R + j;
     const auto range_m =
         static_cast<float>(truth + (sigma0 + sigma1 * truth) * noise[(c - begin) * R + j]);
-    ok = ok && range_m >= range_min && range_m <= range_max;
+    if (!(ok && range_m >= range_min && range_m <= range_max)) {
+      keys[slot] = kNoReturn;
+      return;
+    }
     const Eigen::Vector3f xyz = deskew[c] * (axes[c] * range_m);
     storePoint(points[slot], xyz, static_cast<float>(scaledIntensity(rho, range_m, falloff, scale)),
                range_m, label.object, static_cast<std::uint16_t>(c), ring_id, label.cls,
@@ -557,8 +560,8 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     // Ordered by the coordinates the dataset writes: as Scanner::written() gives them.
     const Eigen::Vector3f written =
         compensated ? xyz : (directions[c] * static_cast<double>(range_m)).cast<float>();
-    keys[slot] = ok ? pseudoAzimuth(written.x(), written.y()) : kNoReturn;
-    found += ok ? 1 : 0;
+    keys[slot] = pseudoAzimuth(written.x(), written.y());
+    ++found;
   };
 
   if (N == 1) {
