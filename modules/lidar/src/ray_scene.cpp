@@ -275,23 +275,19 @@ struct ProtoBvh {
   SceneHandle handle;
 };
 
-// One top-level instance: a tile or an object.
+// One top-level instance: a tile or an object, held so that its BVH lives as long as the scene.
 struct InstInfo {
   std::shared_ptr<const TileBvh> tile;    // set for a tile
   std::shared_ptr<const ProtoBvh> proto;  // set for an object
   scene::InstanceId instance = 0;
-  Eigen::Matrix3f normal = Eigen::Matrix3f::Identity();  // inverse transpose of the linear part
-  bool rotated = false;                                  // the linear part is not the identity
-  GeomInfo object;                 // an object's labels (its prototype's mesh and its instance id)
-  std::uint32_t first_object = 0;  // RayHit::object of its first geometry
 };
 
 // What a hit needs of its instance, packed (the lookups of a hit's labels were chains of
 // pointers into several structures, each a likely cache miss).
 struct InstHit {
-  Eigen::Matrix3f normal;  // InstInfo::normal
-  std::uint32_t first_object = 0;
-  bool rotated = false;
+  Eigen::Matrix3f normal;          // inverse transpose of the linear part
+  std::uint32_t first_object = 0;  // RayHit::object of its first geometry
+  bool rotated = false;            // the linear part is not the identity
   bool tile = false;  // the geomID picks the object; otherwise the instance is one object
 };
 
@@ -349,8 +345,6 @@ void loadPacket(std::span<const Ray> rays, std::size_t first, std::size_t n, RTC
   }
 }
 
-// Casts `rays` in packets of 8 and hands each packet to `store(first, packet, n)`: rays
-// [first, first + n) are its lanes 0..n−1.
 template <typename Store>
 void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) {
   setFlushToZero();
@@ -363,7 +357,8 @@ void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) 
     const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
     loadPacket(rays, first, n, packet, valid);
     rtcIntersect8(valid, scene, &context, &packet);
-    store(first, packet, n);
+    for (std::size_t k = 0; k < n; ++k)
+      store(first + k, packet, k);
   }
 }
 
@@ -384,11 +379,10 @@ const std::vector<scene::InstanceId>& RayScene::instances() const {
 void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Traversal mode) const {
   RTCScene top = impl_->top.scene;
   if (mode == Traversal::kPacket8) {
-    castPackets(top, rays, [&](std::size_t first, const RTCRayHit8& p, std::size_t n) {
-      for (std::size_t k = 0; k < n; ++k)
-        ranges[first + k] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
-                                ? std::numeric_limits<float>::infinity()
-                                : p.ray.tfar[k];
+    castPackets(top, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
+      ranges[i] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                      ? std::numeric_limits<float>::infinity()
+                      : p.ray.tfar[k];
     });
     return;
   }
@@ -431,52 +425,29 @@ void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Trav
 
 void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
   const Impl& s = *impl_;
-  castPackets(s.top.scene, rays, [&](std::size_t first, const RTCRayHit8& p, std::size_t n) {
-    // The geometric normals in world axes, lane by lane, then made unit four lanes at a time
-    // (a square root and a division each: done one by one they were most of the labels' cost).
-    // A miss's lane holds a unit x so that it divides by 1.
-    alignas(16) float nx[8] = {}, ny[8] = {}, nz[8] = {};
-    for (std::size_t k = 0; k < n; ++k) {
-      RayHit& h = hits[first + k];
-      if (p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-        h = RayHit{};
-        nx[k] = 1.0f;
-        continue;
-      }
-      const InstHit& inst = s.hits[p.hit.instID[0][k]];
-      Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
-      if (inst.rotated)
-        ng = inst.normal * ng;
-      nx[k] = ng.x();
-      ny[k] = ng.y();
-      nz[k] = ng.z();
-      h.range = p.ray.tfar[k];
-      h.object = inst.first_object + (inst.tile ? p.hit.geomID[k] : 0);
-      const ObjectLabel& label = s.labels[h.object];
-      if (label.parts == nullptr) {
-        h.cls = label.cls;
-        h.material = label.material;
-        continue;
-      }
-      const unsigned prim = p.hit.primID[k];
-      const scene::MeshPart* part = std::prev(std::upper_bound(
-          label.parts, label.parts + label.part_count, prim,
-          [](unsigned t, const scene::MeshPart& part) { return t < part.first_triangle; }));
-      h.cls = part->cls;
-      h.material = part->material;
+  castPackets(s.top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
+    RayHit& h = hits[i];
+    if (p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+      h = RayHit{};
+      return;
     }
-    for (std::size_t k = 0; k < 8; k += 4) {
-      const __m128 x = _mm_load_ps(nx + k), y = _mm_load_ps(ny + k), z = _mm_load_ps(nz + k);
-      const __m128 length =
-          _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z)));
-      const __m128 inverse = _mm_div_ps(_mm_set1_ps(1.0f), length);
-      _mm_store_ps(nx + k, _mm_mul_ps(x, inverse));
-      _mm_store_ps(ny + k, _mm_mul_ps(y, inverse));
-      _mm_store_ps(nz + k, _mm_mul_ps(z, inverse));
+    const InstHit& inst = s.hits[p.hit.instID[0][k]];
+    const Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
+    h.range = p.ray.tfar[k];
+    const Eigen::Vector3f n = inst.rotated ? Eigen::Vector3f(inst.normal * ng) : ng;
+    h.normal = n * (1.0f / n.norm());  // one division, not three
+    h.object = inst.first_object + (inst.tile ? p.hit.geomID[k] : 0);
+    const ObjectLabel& label = s.labels[h.object];
+    if (label.parts == nullptr) {
+      h.cls = label.cls;
+      h.material = label.material;
+      return;
     }
-    for (std::size_t k = 0; k < n; ++k)
-      if (hits[first + k].hit())
-        hits[first + k].normal = {nx[k], ny[k], nz[k]};
+    const scene::MeshPart* part = std::prev(std::upper_bound(
+        label.parts, label.parts + label.part_count, p.hit.primID[k],
+        [](unsigned t, const scene::MeshPart& q) { return t < q.first_triangle; }));
+    h.cls = part->cls;
+    h.material = part->material;
   });
 }
 
@@ -629,40 +600,37 @@ RayScene RayWorld::scene(const std::vector<std::shared_ptr<const scene::Tile>>& 
     rtcCommitGeometry(g);
     rtcAttachGeometry(s->top.scene, g);
     rtcReleaseGeometry(g);
-    info.normal = linear.inverse().transpose();
-    info.rotated = !linear.isIdentity(0.0f);
-    info.first_object = static_cast<std::uint32_t>(s->objects.size());
-    const auto label = [](const GeomInfo& g) {
-      if (g.mesh == nullptr)
-        return ObjectLabel{nullptr, 0, g.cls, g.material};
-      const auto& parts = g.mesh->parts;
+    const auto first_object = static_cast<std::uint32_t>(s->objects.size());
+    const auto label = [](const GeomInfo& geom) {
+      if (geom.mesh == nullptr)
+        return ObjectLabel{nullptr, 0, geom.cls, geom.material};
+      const auto& parts = geom.mesh->parts;
       if (parts.size() == 1)
         return ObjectLabel{nullptr, 0, parts[0].cls, parts[0].material};
       return ObjectLabel{parts.data(), static_cast<std::uint32_t>(parts.size()), 0, 0};
     };
     if (info.proto) {
-      info.object = {info.proto->mesh.get(), 0, 0, info.instance};
       s->objects.push_back(info.instance);
-      s->labels.push_back(label(info.object));
+      s->labels.push_back(label({info.proto->mesh.get(), 0, 0, info.instance}));
     } else {
       for (const GeomInfo& geom : info.tile->geoms) {
         s->objects.push_back(geom.instance);
         s->labels.push_back(label(geom));
       }
     }
-    s->hits.push_back({info.normal, info.first_object, info.rotated, info.tile != nullptr});
+    s->hits.push_back({linear.inverse().transpose(), first_object, !linear.isIdentity(0.0f),
+                       info.tile != nullptr});
     s->instances.push_back(std::move(info));
   };
   for (const auto& t : tiles) {
     auto bvh = w.tile(t);
-    attach(bvh->handle.scene, bvh->level, t->origin, {bvh, nullptr, 0, {}, false, {}});
+    attach(bvh->handle.scene, bvh->level, t->origin, {bvh, nullptr, 0});
     if (!w.options.instance_objects)
       continue;
     for (const scene::Object& o : t->objects)
       if (sharedMesh(o)) {
         auto proto = w.proto(o.mesh);
-        attach(proto->handle.scene, o.linear, o.position,
-               {nullptr, proto, o.instance, {}, false, {}});
+        attach(proto->handle.scene, o.linear, o.position, {nullptr, proto, o.instance});
       }
   }
   commit(s->top.scene, w.builds);
