@@ -443,8 +443,9 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   }
 
   // KITTI order: ring by ring, each by the azimuth of its written coordinates (points whose
-  // float keys are equal, by slot: by column). Each ring sorts (key, slot) words, not the points,
-  // and not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
+  // float keys are equal, by slot: by column), by a sort of (key, slot) words that moves each
+  // point once; not by the column walk: deskewing moves near points by many columns (4 m at
+  // 10 m is 25°).
   std::vector<std::size_t> first(rings + 1, 0);
   for (std::size_t r = 0; r < rings; ++r)
     first[r + 1] = first[r] + std::accumulate(w.found.begin() + r * per_ring,
