@@ -50,6 +50,24 @@ float pseudoAzimuth(float x, float y) {
 // A slot's key when it holds no return.
 constexpr float kNoReturn = -1.0f;
 
+// Writes a point with two 16-byte stores rather than a store per field.
+void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
+                std::uint32_t object, std::uint16_t column, std::uint16_t ring, scene::ClassId cls,
+                std::uint8_t material, std::uint8_t return_index) {
+  static_assert(offsetof(LidarPoint, xyz) == 0 && offsetof(LidarPoint, intensity) == 12 &&
+                offsetof(LidarPoint, range_m) == 16 && offsetof(LidarPoint, object) == 20 &&
+                offsetof(LidarPoint, column) == 24 && offsetof(LidarPoint, ring) == 26 &&
+                offsetof(LidarPoint, cls) == 28 && offsetof(LidarPoint, material) == 30 &&
+                offsetof(LidarPoint, return_index) == 31 && sizeof(scene::ClassId) == 2);
+  auto* out = reinterpret_cast<__m128i*>(&to);
+  _mm_store_si128(out, _mm_castps_si128(_mm_setr_ps(xyz.x(), xyz.y(), xyz.z(), intensity)));
+  _mm_store_si128(out + 1,
+                  _mm_setr_epi32(std::bit_cast<int>(range_m), static_cast<int>(object),
+                                 static_cast<int>(column | static_cast<std::uint32_t>(ring) << 16),
+                                 static_cast<int>(cls | static_cast<std::uint32_t>(material) << 16 |
+                                                  static_cast<std::uint32_t>(return_index) << 24)));
+}
+
 // Copies a point as two 16-byte moves (copied as a LidarPoint, it went field by field).
 void copyPoint(const LidarPoint& from, LidarPoint& to) {
   const auto* f = reinterpret_cast<const __m128i*>(&from);
@@ -468,24 +486,6 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     }
   });
   scratch_.give(std::move(scratch));
-}
-
-// Writes a point with two 16-byte stores rather than a store per field.
-static void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
-                       std::uint32_t object, std::uint16_t column, std::uint16_t ring,
-                       scene::ClassId cls, std::uint8_t material, std::uint8_t return_index) {
-  static_assert(offsetof(LidarPoint, xyz) == 0 && offsetof(LidarPoint, intensity) == 12 &&
-                offsetof(LidarPoint, range_m) == 16 && offsetof(LidarPoint, object) == 20 &&
-                offsetof(LidarPoint, column) == 24 && offsetof(LidarPoint, ring) == 26 &&
-                offsetof(LidarPoint, cls) == 28 && offsetof(LidarPoint, material) == 30 &&
-                offsetof(LidarPoint, return_index) == 31 && sizeof(scene::ClassId) == 2);
-  auto* out = reinterpret_cast<__m128i*>(&to);
-  _mm_store_si128(out, _mm_castps_si128(_mm_setr_ps(xyz.x(), xyz.y(), xyz.z(), intensity)));
-  _mm_store_si128(out + 1,
-                  _mm_setr_epi32(std::bit_cast<int>(range_m), static_cast<int>(object),
-                                 static_cast<int>(column | static_cast<std::uint32_t>(ring) << 16),
-                                 static_cast<int>(cls | static_cast<std::uint32_t>(material) << 16 |
-                                                  static_cast<std::uint32_t>(return_index) << 24)));
 }
 
 // Everything below reads the scanner's settings from locals: stores into the points may alias
