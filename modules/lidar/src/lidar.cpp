@@ -14,6 +14,7 @@
 
 #include <emmintrin.h>
 
+#include "packet_returns.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
 
@@ -32,6 +33,21 @@ constexpr std::size_t kTaskRays = 2048;
 // Columns between the poses asked of the caller (the ones between are interpolated).
 constexpr int kPoseStep = 16;
 
+// A column's ray frame and deskewing, by lane (Scratch::frames: field f of column c at
+// f × padded + c, so eight neighbouring columns' values are one load): the sensor's rotation to
+// world axes (row-major), the ray origin relative to the scene's origin, the deskewing's
+// rotation (row-major) and its translation, all in float (the sensor's reach is small).
+constexpr std::size_t kRot = 0, kOrigin = 9, kDeskew = 12, kShift = 21, kFrameFields = 24;
+
+// Point `v` of column c's sensor frame deskewed to the frame time.
+Eigen::Vector3f deskewed(const float* frames, std::size_t padded, std::size_t c,
+                         const Eigen::Vector3f& v) {
+  const auto f = [&](std::size_t field) { return frames[field * padded + c]; };
+  return {f(kDeskew) * v.x() + f(kDeskew + 1) * v.y() + f(kDeskew + 2) * v.z() + f(kShift),
+          f(kDeskew + 3) * v.x() + f(kDeskew + 4) * v.y() + f(kDeskew + 5) * v.z() + f(kShift + 1),
+          f(kDeskew + 6) * v.x() + f(kDeskew + 7) * v.y() + f(kDeskew + 8) * v.z() + f(kShift + 2)};
+}
+
 // A monotonic stand-in for the azimuth atan2(y, x) mapped to [0, 2π): 0 on +x, rising
 // counter-clockwise to 4 just before it (the "diamond angle"). It orders points as the azimuth
 // does, with one division instead of an atan2 (in float: points less than about 1e-7 rad apart
@@ -47,8 +63,7 @@ float pseudoAzimuth(float x, float y) {
   return (a < 0.0f ? a + 4.0f : a) + 0.0f;
 }
 
-// A slot's key when it holds no return.
-constexpr float kNoReturn = -1.0f;
+using detail::kNoReturn;
 
 // Writes a point with two 16-byte stores rather than a store per field.
 void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
@@ -232,8 +247,8 @@ std::size_t selectReturns(std::vector<Echo>& echoes, const LidarParams& params) 
 // (kNoReturn for none), slots ring by ring (ring r's from r W R on, column by column); per ring
 // its returns in output order; per task the returns it found.
 struct Scanner::Scratch {
-  std::vector<Eigen::Isometry3d> poses;   // per column: the sensor at its firing
-  std::vector<Eigen::Isometry3f> deskew;  // per column: from its firing to the frame time
+  std::vector<Eigen::Isometry3d> poses;  // per column: the sensor at its firing
+  std::vector<float> frames;             // per column: its ray frame and deskewing, by lane
   std::vector<LidarPoint> points;
   std::vector<float> coverage;  // with divergence only
   std::vector<float> keys;
@@ -245,7 +260,8 @@ struct Scanner::Scratch {
 // One task's working memory: its rays, hits and draws (a few tens of kB, in the core's cache
 // while its returns are worked out), reused from task to task rather than held for the frame.
 struct Scanner::Block {
-  std::vector<Ray> rays;
+  std::vector<RayPacket> packets;  // one ray a pulse
+  std::vector<Ray> rays;           // several
   std::vector<RayHit> hits;
   std::vector<double> noise;       // [column][return]
   std::vector<std::uint8_t> kept;  // per column: 0 where dropout takes the pulse
@@ -260,7 +276,7 @@ std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   const auto W = static_cast<std::size_t>(params_.pattern.columns);
   const std::size_t rings = params_.pattern.lasers.size();
   s->poses.resize(W);
-  s->deskew.resize(W);
+  s->frames.resize(kFrameFields * padded_);
   s->points.resize(static_cast<std::size_t>(pulsesPerFrame() * returnsPerPulse()));
   if (params_.sub_rays > 1)
     s->coverage.resize(s->points.size());
@@ -300,11 +316,16 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   if (params_.vehicle && params_.vehicle->box.contains(params_.vehicle->sensor_pose.translation()))
     throw ConfigError("LiDAR: the sensor is inside its vehicle's body");
   axes_.reserve(directions_.size());
-  reach_.reserve(directions_.size());
-  for (const Eigen::Vector3d& d : directions_) {
+  for (const Eigen::Vector3d& d : directions_)
     axes_.push_back(d.cast<float>());
-    reach_.push_back(static_cast<float>(reach(d)));
-  }
+  padded_ = (W + 7) / 8 * 8;
+  beams_.assign(4 * L * padded_, 0.0f);
+  for (std::size_t l = 0; l < L; ++l)
+    for (std::size_t c = 0; c < W; ++c) {
+      for (std::size_t k = 0; k < 3; ++k)
+        beams_[(k * L + l) * padded_ + c] = axes_[l * W + c][static_cast<Eigen::Index>(k)];
+      beams_[(3 * L + l) * padded_ + c] = static_cast<float>(reach(directions_[l * W + c]));
+    }
   ring_lasers_ = p.ringLasers();
   // Columns a task casts of one ring: about kTaskRays rays, at least a packet's worth of pulses,
   // a multiple of the noise's groups, and at least 32 tasks a frame where the pattern has them
@@ -363,21 +384,8 @@ void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
                         const Eigen::Isometry3d* poses, const Eigen::Vector3d& origin,
                         Ray* out) const {
   const ScanPattern& p = params_.pattern;
-  const auto W = static_cast<std::size_t>(p.columns), l = static_cast<std::size_t>(laser);
   const auto t_near = static_cast<float>(p.range_min_m), t_far = static_cast<float>(p.range_max_m);
-  const std::size_t n = footprint_.size();
-  if (n == 1) {
-    // The beam's axes, rotated in float: a rotation keeps them unit to float precision (a few
-    // 1e-7, 0.04 mm at 200 m), so there is nothing to normalise.
-    const Eigen::Vector3f* axes = &axes_[l * W];
-    const float* reach = &reach_[l * W];
-    for (std::size_t c = begin; c < end; ++c) {
-      const Eigen::Isometry3d& T = poses[c];
-      out[c - begin] = {(T.translation() - origin).cast<float>(),
-                        T.linear().cast<float>() * axes[c], t_near, reach[c]};
-    }
-    return;
-  }
+  const std::size_t n = footprint_.size();  // several (one ray a pulse: fillPackets())
   for (std::size_t c = begin; c < end; ++c) {
     const Eigen::Isometry3d& T = poses[c];
     const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
@@ -404,10 +412,80 @@ std::vector<Ray> Scanner::rays(const RayScene& scene, const PoseAt& pose) const 
   const std::size_t per_ring = W * footprint_.size();
   std::vector<Ray> out(ring_lasers_.size() * per_ring);
   std::vector<Eigen::Isometry3d> poses(W);
-  columnPoses(pose, pose(0.0), 0, params_.pattern.columns, poses.data());
-  for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
-    pulseRays(ring_lasers_[r], 0, W, poses.data(), scene.origin(), &out[r * per_ring]);
+  const Eigen::Isometry3d frame_pose = pose(0.0);
+  columnPoses(pose, frame_pose, 0, params_.pattern.columns, poses.data());
+  if (footprint_.size() > 1) {
+    for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
+      pulseRays(ring_lasers_[r], 0, W, poses.data(), scene.origin(), &out[r * per_ring]);
+    return out;
+  }
+  // As castPulses() makes them.
+  std::vector<float> frames(kFrameFields * padded_);
+  columnFrames(poses.data(), frame_pose.inverse(), scene.origin(), 0, W, frames.data());
+  std::vector<RayPacket> packets(padded_ / 8);
+  for (std::size_t r = 0; r < ring_lasers_.size(); ++r) {
+    fillPackets(ring_lasers_[r], 0, W, frames.data(), packets.data());
+    for (std::size_t c = 0; c < W; ++c) {
+      const RayPacket& q = packets[c / 8];
+      const std::size_t k = c % 8;
+      out[r * per_ring + c] = {{q.org_x[k], q.org_y[k], q.org_z[k]},
+                               {q.dir_x[k], q.dir_y[k], q.dir_z[k]},
+                               q.t_near[k],
+                               q.t_far[k]};
+    }
+  }
   return out;
+}
+
+void Scanner::columnFrames(const Eigen::Isometry3d* poses, const Eigen::Isometry3d& world_to_frame,
+                           const Eigen::Vector3d& origin, std::size_t begin, std::size_t end,
+                           float* frames) const {
+  const std::size_t padded = padded_;
+  for (std::size_t c = begin; c < end; ++c) {
+    const Eigen::Isometry3d& T = poses[c - begin];
+    const Eigen::Matrix3f rot = T.linear().cast<float>();
+    const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
+    const Eigen::Isometry3f deskew = (world_to_frame * T).cast<float>();
+    for (std::size_t i = 0; i < 3; ++i) {
+      const auto row = static_cast<Eigen::Index>(i);
+      for (std::size_t j = 0; j < 3; ++j) {
+        const auto col = static_cast<Eigen::Index>(j);
+        frames[(kRot + 3 * i + j) * padded + c] = rot(row, col);
+        frames[(kDeskew + 3 * i + j) * padded + c] = deskew.linear()(row, col);
+      }
+      frames[(kOrigin + i) * padded + c] = o[row];
+      frames[(kShift + i) * padded + c] = deskew.translation()[row];
+    }
+  }
+}
+
+void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const float* frames,
+                          RayPacket* out) const {
+  const std::size_t P = padded_, L = ring_lasers_.size(), l = static_cast<std::size_t>(laser);
+  const float* __restrict ax = &beams_[l * P];
+  const float* __restrict ay = &beams_[(L + l) * P];
+  const float* __restrict az = &beams_[(2 * L + l) * P];
+  const float* __restrict reach = &beams_[(3 * L + l) * P];
+  const float* __restrict f = frames;
+  const auto t_near = static_cast<float>(params_.pattern.range_min_m);
+  // Whole packets: begin is a multiple of 8 and the tables are padded to one. Eight lanes at a
+  // time in Eigen's arrays (vector code).
+  using F8 = Eigen::Array<float, 8, 1>;
+  const auto lanes = [](const float* from) { return Eigen::Map<const F8>(from); };
+  const auto into = [](float* to) { return Eigen::Map<F8, Eigen::Aligned32>(to); };
+  for (std::size_t c0 = begin; c0 < end; c0 += 8) {
+    RayPacket& q = out[(c0 - begin) / 8];
+    const auto field = [&](std::size_t k) { return lanes(f + k * P + c0); };
+    const F8 x = lanes(ax + c0), y = lanes(ay + c0), z = lanes(az + c0);
+    into(q.org_x) = field(kOrigin);
+    into(q.org_y) = field(kOrigin + 1);
+    into(q.org_z) = field(kOrigin + 2);
+    into(q.dir_x) = field(kRot) * x + field(kRot + 1) * y + field(kRot + 2) * z;
+    into(q.dir_y) = field(kRot + 3) * x + field(kRot + 4) * y + field(kRot + 5) * z;
+    into(q.dir_z) = field(kRot + 6) * x + field(kRot + 7) * y + field(kRot + 8) * z;
+    into(q.t_near) = F8::Constant(t_near);
+    into(q.t_far) = lanes(reach + c0);
+  }
 }
 
 LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
@@ -432,14 +510,15 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     cancelled.store(true, std::memory_order_relaxed);
     return true;
   };
-  // Each column's pose at its firing, and the deskewing from there to the sensor at the frame
-  // time (in float: a point is within the sensor's range of it).
+  // Each column's pose at its firing, its rays' frame, and the deskewing from there to the
+  // sensor at the frame time (in float: a point is within the sensor's range of it).
   tbb::parallel_for(tbb::blocked_range<int>(0, p.columns, 4 * kPoseStep), [&](const auto& range) {
     if (stop())
       return;
     columnPoses(pose, frame_pose, range.begin(), range.end(), &w.poses[range.begin()]);
-    for (int c = range.begin(); c < range.end(); ++c)
-      w.deskew[c] = (world_to_frame * w.poses[c]).cast<float>();
+    columnFrames(&w.poses[range.begin()], world_to_frame, scene.origin(),
+                 static_cast<std::size_t>(range.begin()), static_cast<std::size_t>(range.end()),
+                 w.frames.data());
   });
   // Each ring in runs of columns: a task's rays go to Embree in packets of neighbouring
   // columns of one laser (rays eight columns apart meet the same surfaces far more often than
@@ -488,21 +567,92 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   scratch_.give(std::move(scratch));
 }
 
-// Everything below reads the scanner's settings from locals: stores into the points may alias
-// anything, so values read through `this` or a captured reference would be loaded again after
-// every store.
+void Scanner::draw(const RandomStream& random, std::uint64_t frame, std::size_t laser,
+                   std::size_t begin, std::size_t end, Block& b) const {
+  // Keyed by frame, laser and column (so the same for any split into tasks: a task begins on a
+  // noise group); padded with zeros to whole packets of columns.
+  const std::size_t R = static_cast<std::size_t>(returnsPerPulse());
+  const std::size_t columns = end - begin, padded = (columns + 7) / 8 * 8;
+  const std::uint64_t key = (frame << kLaserBits) | laser;
+  b.noise.assign(padded * R, 0.0);
+  if (params_.range_sigma_m > 0.0 || params_.range_sigma_slope > 0.0)
+    for (std::size_t c = begin; c < end; c += kNoiseGroup)
+      random.compactNormals((key << kGroupBits) | (c / kNoiseGroup), &b.noise[(c - begin) * R],
+                            std::min(kNoiseGroup, end - c) * R);
+  b.kept.assign(padded, 0);
+  std::fill_n(b.kept.begin(), columns, 1);
+  if (params_.dropout > 0.0) {  // one draw of four uniforms serves four columns
+    const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
+    for (std::size_t c = begin; c < end; c += 4) {
+      const std::array<double, 4> u = dropout_random.uniform4(key, c / 4);
+      for (std::size_t k = 0; k < 4 && c + k < end; ++k)
+        b.kept[c - begin + k] = u[k] > params_.dropout;
+    }
+  }
+}
+
+std::size_t Scanner::castPulses(const RayScene& scene, const RandomStream& random,
+                                std::uint64_t frame, std::size_t ring, std::size_t begin,
+                                std::size_t end, Block& b, Scratch& w) const {
+  const ScanPattern& p = params_.pattern;
+  const auto l = static_cast<std::size_t>(ring_lasers_[ring]);
+  const std::size_t W = static_cast<std::size_t>(p.columns), P = padded_, L = ring_lasers_.size();
+  const std::size_t R = static_cast<std::size_t>(returnsPerPulse()), columns = end - begin;
+  const std::size_t packets = (columns + 7) / 8;
+  if (b.packets.size() < packets)
+    b.packets.resize(packets);
+  fillPackets(static_cast<int>(l), begin, end, w.frames.data(), b.packets.data());
+  scene.cast(std::span<RayPacket>(b.packets.data(), packets), columns);
+  draw(random, frame, l, begin, end, b);
+
+  detail::PacketSetup setup;
+  setup.backscatter = backscatter_.data();
+  setup.sigma0 = params_.range_sigma_m;
+  setup.sigma1 = params_.range_sigma_slope;
+  setup.threshold = params_.intensity_threshold;
+  setup.range_min = static_cast<float>(p.range_min_m);
+  setup.range_max = static_cast<float>(p.range_max_m);
+  setup.falloff = params_.range_falloff;
+  setup.scale = params_.scale;
+  setup.frames = w.frames.data();
+  setup.padded = P;
+  setup.deskew = kDeskew;
+  setup.shift = kShift;
+  setup.ax = &beams_[l * P];
+  setup.ay = &beams_[(L + l) * P];
+  setup.az = &beams_[(2 * L + l) * P];
+  setup.directions = params_.motion_compensated ? nullptr : &directions_[l * W];
+  setup.ring = static_cast<std::uint16_t>(ring);
+  setup.returns = R;
+  LidarPoint* points = w.points.data() + ring * W * R;
+  float* keys = w.keys.data() + ring * W * R;
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < packets; ++i) {
+    const std::size_t c0 = begin + 8 * i;
+    found += detail::packetReturns(setup, b.packets[i], c0, std::min<std::size_t>(8, end - c0),
+                                   &b.noise[8 * i * R], &b.kept[8 * i], points, keys);
+  }
+  if (R > 1)  // one ray a pulse has one echo: the second slot is always empty
+    for (std::size_t c = begin; c < end; ++c)
+      keys[c * R + 1] = kNoReturn;
+  return found;
+}
+
+// Reads the scanner's settings from locals: stores into the points may alias anything, so values
+// read through `this` or a captured reference would be loaded again after every store.
 std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& random,
                                  std::uint64_t frame, std::size_t ring, std::size_t begin,
                                  std::size_t end, Block& b, Scratch& w) const {
+  if (footprint_.size() == 1)
+    return castPulses(scene, random, frame, ring, begin, end, b, w);
   const ScanPattern& p = params_.pattern;
   const auto l = static_cast<std::size_t>(ring_lasers_[ring]);
   const std::size_t W = static_cast<std::size_t>(p.columns), columns = end - begin;
   const std::size_t N = footprint_.size(), R = static_cast<std::size_t>(returnsPerPulse());
   const double sigma0 = params_.range_sigma_m, sigma1 = params_.range_sigma_slope;
-  const double threshold = params_.intensity_threshold, dropout = params_.dropout;
   const auto range_min = static_cast<float>(p.range_min_m),
              range_max = static_cast<float>(p.range_max_m);
-  const bool noisy = sigma0 > 0.0 || sigma1 > 0.0, falloff = params_.range_falloff;
+  const bool falloff = params_.range_falloff;
   const bool compensated = params_.motion_compensated;
   const IntensityScale scale = params_.scale;
   const Backscatter* backscatter = backscatter_.data();
@@ -512,49 +662,33 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
   b.hits.resize(columns * N);
   pulseRays(static_cast<int>(l), begin, end, w.poses.data(), scene.origin(), b.rays.data());
   scene.intersect(std::span<const Ray>(b.rays), std::span<RayHit>(b.hits));
-
-  // The laser's random draws, keyed by frame, laser and column (so the same for any split into
-  // tasks: a task begins on a noise group).
-  const std::uint64_t key = (frame << kLaserBits) | l;
-  b.noise.assign(columns * R, 0.0);
-  if (noisy)
-    for (std::size_t c = begin; c < end; c += kNoiseGroup)
-      random.compactNormals((key << kGroupBits) | (c / kNoiseGroup), &b.noise[(c - begin) * R],
-                            std::min(kNoiseGroup, end - c) * R);
-  b.kept.assign(columns, 1);
-  if (dropout > 0.0) {  // one draw of four uniforms serves four columns
-    const RandomStream dropout_random(random.seed(), random.stream() ^ 0x5bd1e995u);
-    for (std::size_t c = begin; c < end; c += 4) {
-      const std::array<double, 4> u = dropout_random.uniform4(key, c / 4);
-      for (std::size_t k = 0; k < 4 && c + k < end; ++k)
-        b.kept[c - begin + k] = u[k] > dropout;
-    }
-  }
+  draw(random, frame, l, begin, end, b);
   const Ray* rays = b.rays.data();
   const RayHit* hits = b.hits.data();
   const double* noise = b.noise.data();
   const std::uint8_t* kept = b.kept.data();
-  const Eigen::Isometry3f* deskew = w.deskew.data();
+  const float* frames = w.frames.data();
+  const std::size_t padded = padded_;
   const Eigen::Vector3f* axes = &axes_[l * W];
   const Eigen::Vector3d* directions = &directions_[l * W];
   LidarPoint* points = w.points.data() + ring * W * R;
   float* keys = w.keys.data() + ring * W * R;
-  float* coverages = N > 1 ? w.coverage.data() + ring * W * R : nullptr;
+  float* coverages = w.coverage.data() + ring * W * R;
   std::size_t found = 0;
 
   // Writes slot c R + j of the ring, return j of column c: the echo at `truth` m with
-  // reflectivity `rho`, if `ok` and its noisy range is within limits; otherwise marks the slot
-  // empty (and leaves its point, which is never read).
-  const auto put = [&](std::size_t c, std::size_t j, double truth, double rho, const RayHit& label,
-                       bool ok) {
+  // reflectivity `rho`, if its noisy range is within limits; otherwise marks the slot empty
+  // (and leaves its point, which is never read).
+  const auto put = [&](std::size_t c, std::size_t j, double truth, double rho,
+                       const RayHit& label) {
     const std::size_t slot = c * R + j;
     const auto range_m =
         static_cast<float>(truth + (sigma0 + sigma1 * truth) * noise[(c - begin) * R + j]);
-    if (!(ok && range_m >= range_min && range_m <= range_max)) {
+    if (!(range_m >= range_min && range_m <= range_max)) {
       keys[slot] = kNoReturn;
       return;
     }
-    const Eigen::Vector3f xyz = deskew[c] * (axes[c] * range_m);
+    const Eigen::Vector3f xyz = deskewed(frames, padded, c, axes[c] * range_m);
     storePoint(points[slot], xyz, static_cast<float>(scaledIntensity(rho, range_m, falloff, scale)),
                range_m, label.object, static_cast<std::uint16_t>(c), ring_id, label.cls,
                static_cast<std::uint8_t>(label.material), static_cast<std::uint8_t>(j));
@@ -565,21 +699,6 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     ++found;
   };
 
-  if (N == 1) {
-    // One ray a pulse (no divergence), the common case: its hit is the only echo, dropped past
-    // the material's maximum incidence angle, when too faint, or by chance. A miss (infinite
-    // range, no normal) comes out as no return.
-    for (std::size_t c = begin; c < end; ++c) {
-      const RayHit& h = hits[c - begin];
-      const double cos_theta =
-          std::abs(h.normal.cast<double>().dot(rays[c - begin].direction.cast<double>()));
-      const double rho = backscatter[h.material](cos_theta);
-      put(c, 0, h.range, rho, h, h.hit() && rho > 0.0 && rho >= threshold && kept[c - begin] != 0);
-      for (std::size_t j = 1; j < R; ++j)
-        keys[c * R + j] = kNoReturn;
-    }
-    return found;
-  }
   std::vector<Echo>& echoes = b.echoes;
   for (std::size_t c = begin; c < end; ++c) {
     const std::size_t base = (c - begin) * N;
@@ -600,7 +719,7 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     }
     for (std::size_t j = 0; j < R; ++j) {
       if (j < chosen) {
-        put(c, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label, true);
+        put(c, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label);
         coverages[c * R + j] = static_cast<float>(echoes[j].coverage);
       } else
         keys[c * R + j] = kNoReturn;

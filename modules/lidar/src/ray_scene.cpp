@@ -16,6 +16,7 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <set>
 #include <string>
 
@@ -318,8 +319,28 @@ void setFlushToZero() {
   _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
 }
 
+// RayPacket is Embree's RTCRayHit8 with the labels after it, filled and read in place.
+static_assert(sizeof(RTCRayHit8) == offsetof(RayPacket, object) && offsetof(RTCRayHit8, ray) == 0 &&
+              offsetof(RTCRayHit8, hit) == 12 * 32 &&
+              offsetof(RayPacket, org_x) == offsetof(RTCRay8, org_x) &&
+              offsetof(RayPacket, t_near) == offsetof(RTCRay8, tnear) &&
+              offsetof(RayPacket, dir_x) == offsetof(RTCRay8, dir_x) &&
+              offsetof(RayPacket, time) == offsetof(RTCRay8, time) &&
+              offsetof(RayPacket, t_far) == offsetof(RTCRay8, tfar) &&
+              offsetof(RayPacket, mask) == offsetof(RTCRay8, mask) &&
+              offsetof(RayPacket, flags) == offsetof(RTCRay8, flags) &&
+              offsetof(RayPacket, ng_x) == 12 * 32 + offsetof(RTCHit8, Ng_x) &&
+              offsetof(RayPacket, prim) == 12 * 32 + offsetof(RTCHit8, primID) &&
+              offsetof(RayPacket, geom) == 12 * 32 + offsetof(RTCHit8, geomID) &&
+              offsetof(RayPacket, inst) == 12 * 32 + offsetof(RTCHit8, instID) &&
+              RTC_MAX_INSTANCE_LEVEL_COUNT == 1 && alignof(RayPacket) >= alignof(RTCRayHit8));
+
+RTCRayHit8& embree(RayPacket& p) {
+  return *reinterpret_cast<RTCRayHit8*>(&p);
+}
+
 // Loads rays [first, first + n) of `rays` (n ≤ 8) into a packet; lanes past n are inactive.
-void loadPacket(std::span<const Ray> rays, std::size_t first, std::size_t n, RTCRayHit8& p,
+void loadPacket(std::span<const Ray> rays, std::size_t first, std::size_t n, RayPacket& p,
                 int valid[8]) {
   for (std::size_t k = 0; k < 8; ++k) {
     if (k >= n) {
@@ -328,41 +349,53 @@ void loadPacket(std::span<const Ray> rays, std::size_t first, std::size_t n, RTC
     }
     const Ray& r = rays[first + k];
     valid[k] = -1;
-    p.ray.org_x[k] = r.origin.x();
-    p.ray.org_y[k] = r.origin.y();
-    p.ray.org_z[k] = r.origin.z();
-    p.ray.dir_x[k] = r.direction.x();
-    p.ray.dir_y[k] = r.direction.y();
-    p.ray.dir_z[k] = r.direction.z();
-    p.ray.tnear[k] = r.t_near;
-    p.ray.tfar[k] = r.t_far;
-    p.ray.time[k] = 0.0f;
-    p.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks on
-    p.ray.id[k] = static_cast<unsigned>(k);
-    p.ray.flags[k] = 0;
-    p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-    p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    p.org_x[k] = r.origin.x();
+    p.org_y[k] = r.origin.y();
+    p.org_z[k] = r.origin.z();
+    p.dir_x[k] = r.direction.x();
+    p.dir_y[k] = r.direction.y();
+    p.dir_z[k] = r.direction.z();
+    p.t_near[k] = r.t_near;
+    p.t_far[k] = r.t_far;
   }
+}
+
+// Casts a loaded packet: Embree's closest hits, no labels.
+void castRaw(RTCScene scene, RTCIntersectContext& context, RayPacket& p, const int valid[8]) {
+  std::fill_n(p.geom, 8, RTC_INVALID_GEOMETRY_ID);
+  std::fill_n(p.inst, 8, RTC_INVALID_GEOMETRY_ID);
+  rtcIntersect8(valid, scene, &context, &embree(p));
+}
+
+void coherentContext(RTCIntersectContext& context) {
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 }
 
 template <typename Store>
 void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) {
   setFlushToZero();
   RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  alignas(32) RTCRayHit8 packet;
+  coherentContext(context);
+  RayPacket packet;
   alignas(32) int valid[8];
   for (std::size_t first = 0; first < rays.size(); first += 8) {
     const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
     loadPacket(rays, first, n, packet, valid);
-    rtcIntersect8(valid, scene, &context, &packet);
+    castRaw(scene, context, packet, valid);
     for (std::size_t k = 0; k < n; ++k)
       store(first + k, packet, k);
   }
 }
 
 }  // namespace
+
+RayPacket::RayPacket() {
+  std::fill_n(time, 8, 0.0f);
+  std::fill_n(mask, 8, 0xFFFFFFFFu);  // Debian's Embree has ray masks on
+  std::iota(id, id + 8, 0u);
+  std::fill_n(flags, 8, 0u);
+}
 
 const Eigen::Vector3d& RayScene::origin() const {
   return impl_->origin;
@@ -379,17 +412,15 @@ const std::vector<scene::InstanceId>& RayScene::instances() const {
 void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Traversal mode) const {
   RTCScene top = impl_->top.scene;
   if (mode == Traversal::kPacket8) {
-    castPackets(top, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
-      ranges[i] = p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
-                      ? std::numeric_limits<float>::infinity()
-                      : p.ray.tfar[k];
+    castPackets(top, rays, [&](std::size_t i, const RayPacket& p, std::size_t k) {
+      ranges[i] = p.geom[k] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
+                                                       : p.t_far[k];
     });
     return;
   }
   setFlushToZero();
   RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  coherentContext(context);
   std::vector<RTCRayHit> hits(mode == Traversal::kStream ? rays.size() : 1);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     RTCRayHit& h = hits[mode == Traversal::kStream ? i : 0];
@@ -423,32 +454,86 @@ void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Trav
                     : hits[i].ray.tfar;
 }
 
-void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
-  const Impl& s = *impl_;
-  castPackets(s.top.scene, rays, [&](std::size_t i, const RTCRayHit8& p, std::size_t k) {
-    RayHit& h = hits[i];
-    if (p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-      h = RayHit{};
-      return;
+namespace {
+
+// Turns the hits of a cast packet into world normals and labels, lane by lane (inactive lanes
+// come out as misses).
+void label(const RayScene::Impl& s, RayPacket& p, const int valid[8]) {
+  for (std::size_t k = 0; k < 8; ++k) {
+    if (valid[k] == 0 || p.geom[k] == RTC_INVALID_GEOMETRY_ID) {
+      p.t_far[k] = std::numeric_limits<float>::infinity();
+      p.ng_x[k] = p.ng_y[k] = p.ng_z[k] = 0.0f;
+      p.object[k] = 0;
+      p.cls[k] = 0;
+      p.material[k] = 0;
+      continue;
     }
-    const InstHit& inst = s.hits[p.hit.instID[0][k]];
-    const Eigen::Vector3f ng(p.hit.Ng_x[k], p.hit.Ng_y[k], p.hit.Ng_z[k]);
-    h.range = p.ray.tfar[k];
-    const Eigen::Vector3f n = inst.rotated ? Eigen::Vector3f(inst.normal * ng) : ng;
-    h.normal = n * (1.0f / n.norm());  // one division, not three
-    h.object = inst.first_object + (inst.tile ? p.hit.geomID[k] : 0);
-    const ObjectLabel& label = s.labels[h.object];
+    const InstHit& inst = s.hits[p.inst[k]];
+    if (inst.rotated) {  // Embree gives an instance's normal in the instance's own axes
+      const Eigen::Vector3f n = inst.normal * Eigen::Vector3f(p.ng_x[k], p.ng_y[k], p.ng_z[k]);
+      p.ng_x[k] = n.x();
+      p.ng_y[k] = n.y();
+      p.ng_z[k] = n.z();
+    }
+    const std::uint32_t object = inst.first_object + (inst.tile ? p.geom[k] : 0);
+    p.object[k] = object;
+    const ObjectLabel& label = s.labels[object];
     if (label.parts == nullptr) {
-      h.cls = label.cls;
-      h.material = label.material;
-      return;
+      p.cls[k] = label.cls;
+      p.material[k] = label.material;
+      continue;
     }
     const scene::MeshPart* part = std::prev(std::upper_bound(
-        label.parts, label.parts + label.part_count, p.hit.primID[k],
+        label.parts, label.parts + label.part_count, p.prim[k],
         [](unsigned t, const scene::MeshPart& q) { return t < q.first_triangle; }));
-    h.cls = part->cls;
-    h.material = part->material;
-  });
+    p.cls[k] = part->cls;
+    p.material[k] = part->material;
+  }
+}
+
+}  // namespace
+
+void RayScene::cast(std::span<RayPacket> packets, std::size_t rays) const {
+  const Impl& s = *impl_;
+  setFlushToZero();
+  RTCIntersectContext context;
+  coherentContext(context);
+  alignas(32) int valid[8];
+  std::fill_n(valid, 8, -1);
+  for (std::size_t i = 0; i < packets.size() && 8 * i < rays; ++i) {
+    for (std::size_t k = 0; k < 8; ++k)
+      valid[k] = 8 * i + k < rays ? -1 : 0;
+    castRaw(s.top.scene, context, packets[i], valid);
+    label(s, packets[i], valid);
+  }
+}
+
+void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
+  const Impl& s = *impl_;
+  setFlushToZero();
+  RTCIntersectContext context;
+  coherentContext(context);
+  RayPacket p;
+  alignas(32) int valid[8];
+  for (std::size_t first = 0; first < rays.size(); first += 8) {
+    const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
+    loadPacket(rays, first, n, p, valid);
+    castRaw(s.top.scene, context, p, valid);
+    label(s, p, valid);
+    for (std::size_t k = 0; k < n; ++k) {
+      RayHit& h = hits[first + k];
+      if (p.geom[k] == RTC_INVALID_GEOMETRY_ID) {
+        h = RayHit{};
+        continue;
+      }
+      const Eigen::Vector3f normal(p.ng_x[k], p.ng_y[k], p.ng_z[k]);
+      h.range = p.t_far[k];
+      h.normal = normal * (1.0f / normal.norm());  // one division, not three
+      h.object = p.object[k];
+      h.cls = p.cls[k];
+      h.material = p.material[k];
+    }
+  }
 }
 
 struct RayWorld::Impl {

@@ -27,7 +27,7 @@ enum class IntensityScale : std::uint8_t {
 /// its diffuse share ρ k_d cos θ elsewhere. The constants are worked out once per material (the
 /// LiDAR evaluates it for every return), and the angle test is a select rather than a branch: a
 /// column's misses (cos θ = 0) and grazing hits come out as 0 without a misprediction each.
-class Backscatter {
+class alignas(32) Backscatter {  // its four constants are one 32-byte line
  public:
   Backscatter() = default;
   explicit Backscatter(const scene::Material& m)
@@ -42,6 +42,12 @@ class Backscatter {
     const double r = diffuse_ * cos_theta + specular;
     return cos_theta > 0.0 && cos_theta >= cos_max_ ? r : 0.0;
   }
+  /// The constants of the form above, for an evaluation over several returns at once:
+  /// cos θ_max, 1 / m², ρ k_d and ρ k_s / m².
+  double cosMax() const { return cos_max_; }
+  double invM2() const { return inv_m2_; }
+  double diffuse() const { return diffuse_; }
+  double specular() const { return specular_; }
 
  private:
   double cos_max_ = 1.0, inv_m2_ = 1.0, diffuse_ = 0.0, specular_ = 0.0;
@@ -52,13 +58,9 @@ inline double reflectivity(const scene::Material& m, double cos_theta) {
   return Backscatter(m)(cos_theta);
 }
 
-/// The intensity written for a return of reflectivity r at range R: with `range_falloff`,
-/// r · (10 m / R)² (raw intensity, 1/R² of an extended target, equal to r at 10 m), otherwise r
-/// (calibrated reflectivity, as Velodyne reports it); then scaled: kUnit clamps to 0..1, kVlp16
-/// maps r ≤ 1 to 100 r and r > 1 to 101 + 154 (r − 1), at most 255.
-inline double scaledIntensity(double r, double range_m, bool range_falloff, IntensityScale scale) {
-  if (range_falloff)
-    r *= (10.0 / range_m) * (10.0 / range_m);
+/// Reflectivity r as written: kUnit clamps it to 0..1, kVlp16 maps r ≤ 1 to 100 r and r > 1 to
+/// 101 + 154 (r − 1), at most 255.
+inline double scaled(double r, IntensityScale scale) {
   switch (scale) {
     case IntensityScale::kUnit:
       return std::clamp(r, 0.0, 1.0);
@@ -67,6 +69,14 @@ inline double scaledIntensity(double r, double range_m, bool range_falloff, Inte
                       : std::min(255.0, std::round(101.0 + 154.0 * (r - 1.0)));
   }
   return r;
+}
+/// The intensity written for a return of reflectivity r at range R: with `range_falloff`,
+/// r · (10 m / R)² (raw intensity, 1/R² of an extended target, equal to r at 10 m), otherwise r
+/// (calibrated reflectivity, as Velodyne reports it); then scaled().
+inline double scaledIntensity(double r, double range_m, bool range_falloff, IntensityScale scale) {
+  if (range_falloff)
+    r *= (10.0 / range_m) * (10.0 / range_m);
+  return scaled(r, scale);
 }
 
 }  // namespace trainsim::lidar

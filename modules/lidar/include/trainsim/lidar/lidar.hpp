@@ -160,27 +160,45 @@ class Scanner {
  private:
   int laser(const LidarPoint& p) const { return ring_lasers_[p.ring]; }
   /// Laser `laser`'s rays in columns [begin, end), from the columns' `poses`, relative to
-  /// `origin`.
+  /// `origin`, with several sub-rays a pulse.
   void pulseRays(int laser, std::size_t begin, std::size_t end, const Eigen::Isometry3d* poses,
                  const Eigen::Vector3d& origin, Ray* out) const;
+  /// Laser `laser`'s rays in columns [begin, end) (begin a multiple of 8) into packets of
+  /// eight neighbouring columns, from the columns' ray frames (Scratch::frames).
+  void fillPackets(int laser, std::size_t begin, std::size_t end, const float* frames,
+                   RayPacket* out) const;
+  /// Each column's ray frame and deskewing (Scratch::frames) for columns [begin, end), from
+  /// their poses, with ray origins relative to `origin`.
+  void columnFrames(const Eigen::Isometry3d* poses, const Eigen::Isometry3d& world_to_frame,
+                    const Eigen::Vector3d& origin, std::size_t begin, std::size_t end,
+                    float* frames) const;
   /// The sensor's poses at the firings of columns [begin, end), into out[0, end − begin).
   void columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin, int end,
                    Eigen::Isometry3d* out) const;
 
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // laser-major: [laser][column]
-  std::vector<Eigen::Vector3f> axes_;        // the same in float, for the rays
-  std::vector<float> reach_;                 // each beam axis's reach(), [laser][column]
-  std::vector<Eigen::Vector2d> footprint_;   // sub-ray offsets (rad) across and along the beam
-  std::vector<int> ring_lasers_;             // the laser of each ring
-  std::size_t task_columns_ = 0;             // columns of one ring a task casts
-  std::vector<Backscatter> backscatter_;     // by material id
+  std::vector<Eigen::Vector3f> axes_;        // the same in float
+  std::size_t padded_ = 0;                   // columns rounded up to a packet's eight
+  /// The beam axes and each one's reach() by lane: [x, y, z, reach][laser][padded_ columns].
+  std::vector<float> beams_;
+  std::vector<Eigen::Vector2d> footprint_;  // sub-ray offsets (rad) across and along the beam
+  std::vector<int> ring_lasers_;            // the laser of each ring
+  std::size_t task_columns_ = 0;            // columns of one ring a task casts
+  std::vector<Backscatter> backscatter_;    // by material id
 
   struct Scratch;
   struct Block;
   std::unique_ptr<Scratch> makeScratch() const;
   /// Casts columns [begin, end) of ring `ring` and works out their returns into the frame's
-  /// slots; returns how many there are.
+  /// slots; returns how many there are. castPulses() is the same for one ray a pulse, eight
+  /// pulses at a time.
+  std::size_t castPulses(const RayScene& scene, const RandomStream& random, std::uint64_t frame,
+                         std::size_t ring, std::size_t begin, std::size_t end, Block& block,
+                         Scratch& w) const;
+  /// The random draws of columns [begin, end) of laser `laser`: range noise and dropout.
+  void draw(const RandomStream& random, std::uint64_t frame, std::size_t laser, std::size_t begin,
+            std::size_t end, Block& block) const;
   std::size_t castColumns(const RayScene& scene, const RandomStream& random, std::uint64_t frame,
                           std::size_t ring, std::size_t begin, std::size_t end, Block& block,
                           Scratch& w) const;

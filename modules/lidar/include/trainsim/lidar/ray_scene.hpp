@@ -34,6 +34,26 @@ struct RayHit {
   bool hit() const { return range < std::numeric_limits<float>::infinity(); }
 };
 
+/// Eight rays cast together, laid out as Embree's packet of eight (RTCRayHit8, checked where
+/// Embree is included): the scanner fills the rays in place and reads the hits in place, so
+/// nothing is copied on the way to Embree and back. A new packet has every ray's constant
+/// fields set; the caller sets origins (relative to the scene's origin), unit directions and
+/// each ray's [t_near, t_far].
+struct alignas(32) RayPacket {
+  float org_x[8], org_y[8], org_z[8], t_near[8], dir_x[8], dir_y[8], dir_z[8], time[8], t_far[8];
+  std::uint32_t mask[8], id[8], flags[8];
+  /// After RayScene::cast, per lane: t_far the hit's range (infinity for a miss) and the
+  /// geometric normal in world axes, facing either way and not of unit length (0 for a miss).
+  float ng_x[8], ng_y[8], ng_z[8], u[8], v[8];
+  std::uint32_t prim[8], geom[8], inst[8];
+  /// After RayScene::cast, per lane: the labels of the surface hit (RayHit's; 0 for a miss).
+  std::uint32_t object[8];
+  scene::ClassId cls[8];
+  scene::MaterialId material[8];
+
+  RayPacket();
+};
+
 /// The scene a frame's rays are cast against: the tiles within the sensor's reach, each tile's
 /// own geometry one BVH (built once per tile and instanced), shared prototypes (trees, rocks,
 /// signals) one BVH each, instanced per object, wires as exact capsules (a user geometry
@@ -47,6 +67,11 @@ class RayScene {
   /// Casts `rays` in packets of 8 (coherent: keep them in scan order) and writes `hits`.
   /// Sets flush-to-zero and denormals-are-zero on the calling thread.
   void intersect(std::span<const Ray> rays, std::span<RayHit> hits) const;
+  /// Casts the first `rays` rays of `packets` (eight a packet; the lanes past them are not
+  /// cast, and come out as misses) and writes their hits and labels into the packets (see
+  /// RayPacket). Sets
+  /// flush-to-zero and denormals-are-zero on the calling thread.
+  void cast(std::span<RayPacket> packets, std::size_t rays) const;
   /// Top-level instances (tiles + instanced objects).
   std::size_t instanceCount() const;
   /// The instance ids of the scene's objects (every geometry of a tile, every instanced

@@ -1,0 +1,47 @@
+#pragma once
+// A packet's returns worked out eight lanes at a time in SSE2 vectors (the x86-64 baseline, so
+// the bytes are the same on every machine): incidence, Lambertian-Beckmann backscatter, range
+// noise, deskewing, intensity, the ring's azimuth key and the points, for one ray a pulse.
+#include <cstddef>
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "trainsim/lidar/intensity.hpp"
+#include "trainsim/lidar/lidar.hpp"
+#include "trainsim/lidar/ray_scene.hpp"
+
+namespace trainsim::lidar::detail {
+
+/// A slot's key when it holds no return.
+inline constexpr float kNoReturn = -1.0f;
+
+/// What a task's packets share: the scanner's settings and the laser's tables.
+struct PacketSetup {
+  const Backscatter* backscatter = nullptr;  // by material id
+  double sigma0 = 0.0, sigma1 = 0.0;         // range noise: σ = sigma0 + sigma1 · range
+  double threshold = 0.0;                    // the least reflectivity that returns
+  float range_min = 0.0f, range_max = 0.0f;
+  bool falloff = false;
+  IntensityScale scale = IntensityScale::kUnit;
+  /// The columns' deskewing, field f of column c at frames[f · padded + c] (the scanner's
+  /// Scratch::frames: rotation row-major from field `deskew`, translation from `shift`).
+  const float* frames = nullptr;
+  std::size_t padded = 0, deskew = 0, shift = 0;
+  const float *ax = nullptr, *ay = nullptr, *az = nullptr;  // the laser's beam axes by column
+  /// The laser's directions by column, to key points by their coordinates as measured
+  /// (LidarParams::motion_compensated off); null: keyed by the deskewed ones.
+  const Eigen::Vector3d* directions = nullptr;
+  std::uint16_t ring = 0;
+  std::size_t returns = 1;  // slots a pulse has
+};
+
+/// Works out the returns of columns c0 + k, k < lanes ≤ 8, from their cast `packet`, with
+/// noise[k · returns] and kept[k] their draws (kept 0: dropped): writes the first slot of each
+/// (slot (c0 + k) · returns of `points` and `keys`; the key kNoReturn where it has no return,
+/// and then its point is not to be read) and returns how many returned.
+std::size_t packetReturns(const PacketSetup& setup, const RayPacket& packet, std::size_t c0,
+                          std::size_t lanes, const double* noise, const std::uint8_t* kept,
+                          LidarPoint* points, float* keys);
+
+}  // namespace trainsim::lidar::detail
