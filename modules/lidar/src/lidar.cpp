@@ -48,22 +48,8 @@ Eigen::Vector3f deskewed(const float* frames, std::size_t padded, std::size_t c,
           f(kDeskew + 6) * v.x() + f(kDeskew + 7) * v.y() + f(kDeskew + 8) * v.z() + f(kShift + 2)};
 }
 
-// A monotonic stand-in for the azimuth atan2(y, x) mapped to [0, 2π): 0 on +x, rising
-// counter-clockwise to 4 just before it (the "diamond angle"). It orders points as the azimuth
-// does, with one division instead of an atan2 (in float: points less than about 1e-7 rad apart
-// may tie or swap, which nothing downstream can tell). y = −0 counts as on +x, as the quadrant
-// rule (y ≥ 0) counts it. Never negative (−0 comes out as +0), so the float's bits order as the
-// value does.
-float pseudoAzimuth(float x, float y) {
-  const float d = std::abs(x) + std::abs(y);
-  if (d == 0.0f)
-    return 0.0f;
-  const float r = y / d;
-  const float a = x >= 0.0f ? r : 2.0f - r;
-  return (a < 0.0f ? a + 4.0f : a) + 0.0f;
-}
-
 using detail::kNoReturn;
+using detail::pseudoAzimuth;
 
 // Writes a point with two 16-byte stores rather than a store per field.
 void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,

@@ -76,17 +76,12 @@ v2d backscatter(const Backscatter& a, const Backscatter& b, v2d c) {
   return c > 0.0 && c >= cos_max ? r : v2d{};
 }
 
-// KITTI's azimuth key (lidar.cpp's pseudoAzimuth) lane by lane.
-v4f pseudoAzimuth(v4f x, v4f y) {
+// pseudoAzimuth() lane by lane.
+v4f azimuthKeys(v4f x, v4f y) {
   const v4f d = abs4(x) + abs4(y), t = y / d;
   v4f a = x >= 0.0f ? t : 2.0f - t;
   a = (a < 0.0f ? a + 4.0f : a) + 0.0f;
   return d == 0.0f ? v4f{} : a;
-}
-
-float scalarAzimuth(float x, float y) {
-  const v4f a = pseudoAzimuth(splat(x), splat(y));
-  return a[0];
 }
 
 }  // namespace
@@ -129,7 +124,7 @@ std::size_t packetReturns(const PacketSetup& s, const RayPacket& q, std::size_t 
     store4(x + h, px);
     store4(y + h, py);
     store4(z + h, field(D + 6) * vx + field(D + 7) * vy + field(D + 8) * vz + field(T + 2));
-    store4(key + h, pseudoAzimuth(px, py));
+    store4(key + h, azimuthKeys(px, py));
     // The intensity (kUnit: the reflectivity, clamped at 1; others lane by lane).
     v2d written[2];
     for (std::size_t k = 0; k < 4; k += 2) {
@@ -156,7 +151,7 @@ std::size_t packetReturns(const PacketSetup& s, const RayPacket& q, std::size_t 
     for (std::size_t k = 0; k < lanes; ++k) {
       const Eigen::Vector3f v =
           (s.directions[c0 + k] * static_cast<double>(range[k])).cast<float>();
-      key[k] = scalarAzimuth(v.x(), v.y());
+      key[k] = pseudoAzimuth(v.x(), v.y());
     }
 
   if (lanes < 8 || R != 1) {  // the ring's last columns, or two slots a pulse

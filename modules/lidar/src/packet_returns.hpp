@@ -2,6 +2,7 @@
 // A packet's returns worked out eight lanes at a time in SSE2 vectors (the x86-64 baseline, so
 // the bytes are the same on every machine): incidence, Lambertian-Beckmann backscatter, range
 // noise, deskewing, intensity, the ring's azimuth key and the points, for one ray a pulse.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -12,6 +13,21 @@
 #include "trainsim/lidar/ray_scene.hpp"
 
 namespace trainsim::lidar::detail {
+
+// A monotonic stand-in for the azimuth atan2(y, x) mapped to [0, 2π): 0 on +x, rising
+// counter-clockwise to 4 just before it (the "diamond angle"). It orders points as the azimuth
+// does, with one division instead of an atan2 (in float: points less than about 1e-7 rad apart
+// may tie or swap, which nothing downstream can tell). y = −0 counts as on +x, as the quadrant
+// rule (y ≥ 0) counts it. Never negative (−0 comes out as +0), so the float's bits order as the
+// value does.
+inline float pseudoAzimuth(float x, float y) {
+  const float d = std::abs(x) + std::abs(y);
+  if (d == 0.0f)
+    return 0.0f;
+  const float r = y / d;
+  const float a = x >= 0.0f ? r : 2.0f - r;
+  return (a < 0.0f ? a + 4.0f : a) + 0.0f;
+}
 
 /// A slot's key when it holds no return.
 inline constexpr float kNoReturn = -1.0f;
