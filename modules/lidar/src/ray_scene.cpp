@@ -372,6 +372,8 @@ void coherentContext(RTCIntersectContext& context) {
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 }
 
+// Casts `rays` in packets of 8 and hands each cast packet to `store(first, n, packet, valid)`:
+// rays [first, first + n) in its first n lanes.
 template <typename Store>
 void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) {
   setFlushToZero();
@@ -383,8 +385,7 @@ void castPackets(RTCScene scene, std::span<const Ray> rays, const Store& store) 
     const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
     loadPacket(rays, first, n, packet, valid);
     castRaw(scene, context, packet, valid);
-    for (std::size_t k = 0; k < n; ++k)
-      store(first + k, packet, k);
+    store(first, n, packet, valid);
   }
 }
 
@@ -412,9 +413,11 @@ const std::vector<scene::InstanceId>& RayScene::instances() const {
 void RayScene::traverse(std::span<const Ray> rays, std::span<float> ranges, Traversal mode) const {
   RTCScene top = impl_->top.scene;
   if (mode == Traversal::kPacket8) {
-    castPackets(top, rays, [&](std::size_t i, const RayPacket& p, std::size_t k) {
-      ranges[i] = p.geom[k] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity()
-                                                       : p.t_far[k];
+    castPackets(top, rays, [&](std::size_t first, std::size_t n, const RayPacket& p, const int*) {
+      for (std::size_t k = 0; k < n; ++k)
+        ranges[first + k] = p.geom[k] == RTC_INVALID_GEOMETRY_ID
+                                ? std::numeric_limits<float>::infinity()
+                                : p.t_far[k];
     });
     return;
   }
@@ -510,30 +513,23 @@ void RayScene::cast(std::span<RayPacket> packets, std::size_t rays) const {
 
 void RayScene::intersect(std::span<const Ray> rays, std::span<RayHit> hits) const {
   const Impl& s = *impl_;
-  setFlushToZero();
-  RTCIntersectContext context;
-  coherentContext(context);
-  RayPacket p;
-  alignas(32) int valid[8];
-  for (std::size_t first = 0; first < rays.size(); first += 8) {
-    const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
-    loadPacket(rays, first, n, p, valid);
-    castRaw(s.top.scene, context, p, valid);
-    label(s, p, valid);
-    for (std::size_t k = 0; k < n; ++k) {
-      RayHit& h = hits[first + k];
-      if (p.geom[k] == RTC_INVALID_GEOMETRY_ID) {
-        h = RayHit{};
-        continue;
-      }
-      const Eigen::Vector3f normal(p.ng_x[k], p.ng_y[k], p.ng_z[k]);
-      h.range = p.t_far[k];
-      h.normal = normal * (1.0f / normal.norm());  // one division, not three
-      h.object = p.object[k];
-      h.cls = p.cls[k];
-      h.material = p.material[k];
-    }
-  }
+  castPackets(s.top.scene, rays,
+              [&](std::size_t first, std::size_t n, RayPacket& p, const int* valid) {
+                label(s, p, valid);
+                for (std::size_t k = 0; k < n; ++k) {
+                  RayHit& h = hits[first + k];
+                  if (p.geom[k] == RTC_INVALID_GEOMETRY_ID) {
+                    h = RayHit{};
+                    continue;
+                  }
+                  const Eigen::Vector3f normal(p.ng_x[k], p.ng_y[k], p.ng_z[k]);
+                  h.range = p.t_far[k];
+                  h.normal = normal * (1.0f / normal.norm());  // one division, not three
+                  h.object = p.object[k];
+                  h.cls = p.cls[k];
+                  h.material = p.material[k];
+                }
+              });
 }
 
 struct RayWorld::Impl {
