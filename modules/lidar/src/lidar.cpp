@@ -52,25 +52,8 @@ Eigen::Vector3f deskewed(const float* frames, std::size_t padded, std::size_t c,
 using detail::Echo;
 using detail::kNoReturn;
 using detail::pseudoAzimuth;
+using detail::storePoint;
 using detail::SubHit;
-
-// Writes a point with two 16-byte stores rather than a store per field.
-void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
-                std::uint32_t object, std::uint16_t column, std::uint16_t ring, scene::ClassId cls,
-                std::uint8_t material, std::uint8_t return_index) {
-  static_assert(offsetof(LidarPoint, xyz) == 0 && offsetof(LidarPoint, intensity) == 12 &&
-                offsetof(LidarPoint, range_m) == 16 && offsetof(LidarPoint, object) == 20 &&
-                offsetof(LidarPoint, column) == 24 && offsetof(LidarPoint, ring) == 26 &&
-                offsetof(LidarPoint, cls) == 28 && offsetof(LidarPoint, material) == 30 &&
-                offsetof(LidarPoint, return_index) == 31 && sizeof(scene::ClassId) == 2);
-  auto* out = reinterpret_cast<__m128i*>(&to);
-  _mm_store_si128(out, _mm_castps_si128(_mm_setr_ps(xyz.x(), xyz.y(), xyz.z(), intensity)));
-  _mm_store_si128(out + 1,
-                  _mm_setr_epi32(std::bit_cast<int>(range_m), static_cast<int>(object),
-                                 static_cast<int>(column | static_cast<std::uint32_t>(ring) << 16),
-                                 static_cast<int>(cls | static_cast<std::uint32_t>(material) << 16 |
-                                                  static_cast<std::uint32_t>(return_index) << 24)));
-}
 
 // Copies a point as two 16-byte moves (copied as a LidarPoint, it went field by field).
 void copyPoint(const LidarPoint& from, LidarPoint& to) {

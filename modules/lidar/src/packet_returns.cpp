@@ -158,25 +158,15 @@ std::size_t packetReturns(const PacketSetup& s, const RayPacket& q, std::size_t 
     for (std::size_t k = 0; k < lanes; ++k) {
       const std::size_t slot = (c0 + k) * R;
       keys[slot] = (ok >> k & 1u) != 0 ? key[k] : kNoReturn;
-      LidarPoint& p = points[slot];
-      p.xyz = {x[k], y[k], z[k]};
-      p.intensity = intensity[k];
-      p.range_m = range[k];
-      p.object = q.object[k];
-      p.column = static_cast<std::uint16_t>(c0 + k);
-      p.ring = s.ring;
-      p.cls = q.cls[k];
-      p.material = static_cast<std::uint8_t>(q.material[k]);
-      p.return_index = 0;
+      storePoint(points[slot], {x[k], y[k], z[k]}, intensity[k], range[k], q.object[k],
+                 static_cast<std::uint16_t>(c0 + k), s.ring, q.cls[k],
+                 static_cast<std::uint8_t>(q.material[k]), 0);
     }
     return static_cast<std::size_t>(std::popcount(ok));
   }
   // Eight whole points, four at a time: the lanes' fields transposed into the points' two
-  // 16-byte halves, stored whether or not the lane returned (an empty slot's point is not read).
-  static_assert(offsetof(LidarPoint, intensity) == 12 && offsetof(LidarPoint, range_m) == 16 &&
-                offsetof(LidarPoint, object) == 20 && offsetof(LidarPoint, column) == 24 &&
-                offsetof(LidarPoint, ring) == 26 && offsetof(LidarPoint, cls) == 28 &&
-                offsetof(LidarPoint, material) == 30 && offsetof(LidarPoint, return_index) == 31);
+  // 16-byte halves (laid out as storePoint() lays them), stored whether or not the lane returned
+  // (an empty slot's point is not read).
   const __m128i labels = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.cls));
   const __m128i materials = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.material));
   // cls | material << 16 (return index 0), by lane.

@@ -2,9 +2,12 @@
 // A packet's returns worked out eight lanes at a time in SSE2 vectors (the x86-64 baseline, so
 // the bytes are the same on every machine): incidence, Lambertian-Beckmann backscatter, range
 // noise, deskewing, intensity, the ring's azimuth key and the points, for one ray a pulse.
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+
+#include <emmintrin.h>
 
 #include <Eigen/Core>
 
@@ -27,6 +30,24 @@ inline float pseudoAzimuth(float x, float y) {
   const float r = y / d;
   const float a = x >= 0.0f ? r : 2.0f - r;
   return (a < 0.0f ? a + 4.0f : a) + 0.0f;
+}
+
+/// Writes a point with two 16-byte stores rather than a store per field.
+inline void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
+                       std::uint32_t object, std::uint16_t column, std::uint16_t ring,
+                       scene::ClassId cls, std::uint8_t material, std::uint8_t return_index) {
+  static_assert(offsetof(LidarPoint, xyz) == 0 && offsetof(LidarPoint, intensity) == 12 &&
+                offsetof(LidarPoint, range_m) == 16 && offsetof(LidarPoint, object) == 20 &&
+                offsetof(LidarPoint, column) == 24 && offsetof(LidarPoint, ring) == 26 &&
+                offsetof(LidarPoint, cls) == 28 && offsetof(LidarPoint, material) == 30 &&
+                offsetof(LidarPoint, return_index) == 31 && sizeof(scene::ClassId) == 2);
+  auto* out = reinterpret_cast<__m128i*>(&to);
+  _mm_store_si128(out, _mm_castps_si128(_mm_setr_ps(xyz.x(), xyz.y(), xyz.z(), intensity)));
+  _mm_store_si128(out + 1,
+                  _mm_setr_epi32(std::bit_cast<int>(range_m), static_cast<int>(object),
+                                 static_cast<int>(column | static_cast<std::uint32_t>(ring) << 16),
+                                 static_cast<int>(cls | static_cast<std::uint32_t>(material) << 16 |
+                                                  static_cast<std::uint32_t>(return_index) << 24)));
 }
 
 /// A slot's key when it holds no return.
