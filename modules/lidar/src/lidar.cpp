@@ -5,17 +5,16 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <numbers>
 #include <numeric>
 
-#include <emmintrin.h>
-
+#include "column_frames.hpp"
 #include "echoes.hpp"
 #include "packet_returns.hpp"
+#include "ring_order.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
 
@@ -31,81 +30,17 @@ constexpr std::size_t kNoiseGroup = 8;
 // many tasks and can be cancelled between them.
 constexpr std::size_t kTaskRays = 2048;
 
-// Columns between the poses asked of the caller (the ones between are interpolated).
-constexpr int kPoseStep = 16;
-
-// A column's ray frame and deskewing, by lane (Scratch::frames: field f of column c at
-// f × padded + c, so eight neighbouring columns' values are one load): the sensor's rotation to
-// world axes (row-major), the ray origin relative to the scene's origin, the deskewing's
-// rotation (row-major) and its translation, all in float (the sensor's reach is small).
-constexpr std::size_t kRot = 0, kOrigin = 9, kDeskew = 12, kShift = 21, kFrameFields = 24;
-
-// Point `v` of column c's sensor frame deskewed to the frame time.
-Eigen::Vector3f deskewed(const float* frames, std::size_t padded, std::size_t c,
-                         const Eigen::Vector3f& v) {
-  const auto f = [&](std::size_t field) { return frames[field * padded + c]; };
-  return {f(kDeskew) * v.x() + f(kDeskew + 1) * v.y() + f(kDeskew + 2) * v.z() + f(kShift),
-          f(kDeskew + 3) * v.x() + f(kDeskew + 4) * v.y() + f(kDeskew + 5) * v.z() + f(kShift + 1),
-          f(kDeskew + 6) * v.x() + f(kDeskew + 7) * v.y() + f(kDeskew + 8) * v.z() + f(kShift + 2)};
-}
-
+using detail::deskewed;
 using detail::Echo;
+using detail::kDeskew;
+using detail::kFrameFields;
 using detail::kNoReturn;
+using detail::kPoseStep;
+using detail::kShift;
+using detail::orderRing;
 using detail::pseudoAzimuth;
 using detail::storePoint;
 using detail::SubHit;
-
-// Copies a point as two 16-byte moves (copied as a LidarPoint, it went field by field).
-void copyPoint(const LidarPoint& from, LidarPoint& to) {
-  const auto* f = reinterpret_cast<const __m128i*>(&from);
-  auto* t = reinterpret_cast<__m128i*>(&to);
-  _mm_store_si128(t, _mm_load_si128(f));
-  _mm_store_si128(t + 1, _mm_load_si128(f + 1));
-}
-
-// Orders one ring's slots (`columns` × `returns` keys, kNoReturn where there is no return, and
-// their points `from`) by key, ties by slot: the points into `to`, and `order` as key bits << 32
-// | slot; returns how many there are. A counting sort into one bucket per column's width of
-// azimuth, moving each point as it is placed, then an insertion sort that only has to order
-// the few entries sharing a bucket: linear time, and the points are read and written once,
-// each in one sweep.
-std::size_t orderRing(const float* keys, const LidarPoint* from, std::size_t columns,
-                      std::size_t returns, std::vector<std::uint64_t>& order,
-                      std::vector<std::uint32_t>& start, LidarPoint* to) {
-  const std::size_t slots = columns * returns;
-  std::fill(start.begin(), start.end(), 0u);
-  const auto scale = static_cast<float>(columns) / 4.0f;
-  const auto bucket = [&](float key) {
-    return std::min(columns - 1, static_cast<std::size_t>(key * scale));
-  };
-  std::size_t n = 0;
-  for (std::size_t s = 0; s < slots; ++s)
-    if (keys[s] >= 0.0f) {
-      ++start[bucket(keys[s]) + 1];
-      ++n;
-    }
-  for (std::size_t b = 0; b < columns; ++b)
-    start[b + 1] += start[b];
-  order.resize(n);
-  // Filled from the last slot back: a ring's azimuth falls column by column, so each bucket
-  // then fills in rising order, the points go out nearly in sequence, and the insertion sort
-  // has next to nothing to do.
-  for (std::size_t s = slots; s-- > 0;) {
-    if (s >= 16)  // the points are read from memory, not cache: ask for them well ahead
-      __builtin_prefetch(from + s - 16);
-    if (keys[s] >= 0.0f) {
-      const std::uint32_t at = start[bucket(keys[s])]++;
-      order[at] = static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(keys[s])) << 32 | s;
-      copyPoint(from[s], to[at]);
-    }
-  }
-  for (std::size_t i = 1; i < n; ++i)
-    for (std::size_t j = i; j > 0 && order[j] < order[j - 1]; --j) {
-      std::swap(order[j], order[j - 1]);
-      std::swap(to[j], to[j - 1]);
-    }
-  return n;
-}
 
 }  // namespace
 
@@ -216,142 +151,6 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
     const double r = 0.5 * params_.divergence_rad * std::sqrt((k + 0.5) / n);
     const double phi = k * std::numbers::pi * (3.0 - std::sqrt(5.0));
     footprint_.emplace_back(r * std::cos(phi), r * std::sin(phi));
-  }
-}
-
-double Scanner::reach(const Eigen::Vector3d& direction) const {
-  const double limit = params_.pattern.range_max_m;
-  if (!params_.vehicle)
-    return limit;
-  // Where the ray enters the box, by the slab test in the vehicle's axes (the sensor is
-  // outside it, so the entry is the first point of the vehicle on the ray).
-  const Eigen::AlignedBox3d& box = params_.vehicle->box;
-  const Eigen::Vector3d o = params_.vehicle->sensor_pose.translation();
-  const Eigen::Vector3d d = params_.vehicle->sensor_pose.linear() * direction;
-  double enter = 0.0, leave = limit;
-  for (int k = 0; k < 3; ++k) {
-    if (d[k] == 0.0) {
-      if (o[k] < box.min()[k] || o[k] > box.max()[k])
-        return limit;
-      continue;
-    }
-    double a = (box.min()[k] - o[k]) / d[k], b = (box.max()[k] - o[k]) / d[k];
-    if (a > b)
-      std::swap(a, b);
-    enter = std::max(enter, a);
-    leave = std::min(leave, b);
-    if (enter > leave)
-      return limit;
-  }
-  // A ray blocked nearer than the minimum range is cut to an empty segment (no return).
-  return std::max(enter, params_.pattern.range_min_m);
-}
-
-void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
-                        const Eigen::Isometry3d* poses, const Eigen::Vector3d& origin,
-                        Ray* out) const {
-  const ScanPattern& p = params_.pattern;
-  const auto t_near = static_cast<float>(p.range_min_m), t_far = static_cast<float>(p.range_max_m);
-  const std::size_t n = footprint_.size();  // several (one ray a pulse: fillPackets())
-  for (std::size_t c = begin; c < end; ++c) {
-    const Eigen::Isometry3d& T = poses[c];
-    const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
-    const Eigen::Vector3d& d = direction(static_cast<int>(c), laser);
-    // Across the beam: v horizontal (azimuth increasing), u = d × v (elevation increasing).
-    Eigen::Vector3d v(-d.y(), d.x(), 0.0);
-    v = v.norm() > 1e-9 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d u = d.cross(v);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Eigen::Vector2d& f = footprint_[k];
-      const double angle = f.norm();
-      const Eigen::Vector3d sub =
-          angle == 0.0 ? d
-                       : Eigen::Vector3d(std::cos(angle) * d +
-                                         std::sin(angle) / angle * (f.x() * v + f.y() * u));
-      out[(c - begin) * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near,
-                                  params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
-    }
-  }
-}
-
-std::vector<Ray> Scanner::rays(const RayScene& scene, const PoseAt& pose) const {
-  const auto W = static_cast<std::size_t>(params_.pattern.columns);
-  const std::size_t per_ring = W * footprint_.size();
-  std::vector<Ray> out(ring_lasers_.size() * per_ring);
-  std::vector<Eigen::Isometry3d> poses(W);
-  const Eigen::Isometry3d frame_pose = pose(0.0);
-  columnPoses(pose, frame_pose, 0, params_.pattern.columns, poses.data());
-  if (footprint_.size() > 1) {
-    for (std::size_t r = 0; r < ring_lasers_.size(); ++r)
-      pulseRays(ring_lasers_[r], 0, W, poses.data(), scene.origin(), &out[r * per_ring]);
-    return out;
-  }
-  // As castPulses() makes them.
-  std::vector<float> frames(kFrameFields * padded_);
-  columnFrames(poses.data(), frame_pose.inverse(), scene.origin(), 0, W, frames.data());
-  std::vector<RayPacket> packets(padded_ / 8);
-  for (std::size_t r = 0; r < ring_lasers_.size(); ++r) {
-    fillPackets(ring_lasers_[r], 0, W, frames.data(), packets.data());
-    for (std::size_t c = 0; c < W; ++c) {
-      const RayPacket& q = packets[c / 8];
-      const std::size_t k = c % 8;
-      out[r * per_ring + c] = {{q.org_x[k], q.org_y[k], q.org_z[k]},
-                               {q.dir_x[k], q.dir_y[k], q.dir_z[k]},
-                               q.t_near[k],
-                               q.t_far[k]};
-    }
-  }
-  return out;
-}
-
-void Scanner::columnFrames(const Eigen::Isometry3d* poses, const Eigen::Isometry3d& world_to_frame,
-                           const Eigen::Vector3d& origin, std::size_t begin, std::size_t end,
-                           float* frames) const {
-  const std::size_t padded = padded_;
-  for (std::size_t c = begin; c < end; ++c) {
-    const Eigen::Isometry3d& T = poses[c - begin];
-    const Eigen::Matrix3f rot = T.linear().cast<float>();
-    const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
-    const Eigen::Isometry3f deskew = (world_to_frame * T).cast<float>();
-    for (std::size_t i = 0; i < 3; ++i) {
-      const auto row = static_cast<Eigen::Index>(i);
-      for (std::size_t j = 0; j < 3; ++j) {
-        const auto col = static_cast<Eigen::Index>(j);
-        frames[(kRot + 3 * i + j) * padded + c] = rot(row, col);
-        frames[(kDeskew + 3 * i + j) * padded + c] = deskew.linear()(row, col);
-      }
-      frames[(kOrigin + i) * padded + c] = o[row];
-      frames[(kShift + i) * padded + c] = deskew.translation()[row];
-    }
-  }
-}
-
-void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const float* frames,
-                          RayPacket* out) const {
-  const std::size_t P = padded_, L = ring_lasers_.size(), l = static_cast<std::size_t>(laser);
-  const float* __restrict ax = &beams_[l * P];
-  const float* __restrict ay = &beams_[(L + l) * P];
-  const float* __restrict az = &beams_[(2 * L + l) * P];
-  const float* __restrict reach = &beams_[(3 * L + l) * P];
-  const float* __restrict f = frames;
-  const auto t_near = static_cast<float>(params_.pattern.range_min_m);
-  // Whole packets: begin is a multiple of 8 and the tables are padded to one. Eight lanes at a
-  // time in Eigen's arrays (vector code).
-  using F8 = Eigen::Array<float, 8, 1>;
-  const auto lanes = [](const float* from) { return Eigen::Map<const F8>(from); };
-  const auto into = [](float* to) { return Eigen::Map<F8, Eigen::Aligned32>(to); };
-  for (std::size_t c0 = begin; c0 < end; c0 += 8) {
-    RayPacket& q = out[(c0 - begin) / 8];
-    const auto field = [&](std::size_t k) { return lanes(f + k * P + c0); };
-    const F8 x = lanes(ax + c0), y = lanes(ay + c0), z = lanes(az + c0);
-    into(q.org_x) = field(kOrigin);
-    into(q.org_y) = field(kOrigin + 1);
-    into(q.org_z) = field(kOrigin + 2);
-    into(q.dir_x) = field(kRot) * x + field(kRot + 1) * y + field(kRot + 2) * z;
-    into(q.dir_y) = field(kRot + 3) * x + field(kRot + 4) * y + field(kRot + 5) * z;
-    into(q.dir_z) = field(kRot + 6) * x + field(kRot + 7) * y + field(kRot + 8) * z;
-    into(q.t_near) = F8::Constant(t_near);
-    into(q.t_far) = lanes(reach + c0);
   }
 }
 
@@ -593,48 +392,6 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     }
   }
   return found;
-}
-
-void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pose, int begin,
-                          int end, Eigen::Isometry3d* out) const {
-  if (!params_.motion_distortion) {
-    std::fill(out, out + (end - begin), frame_pose);
-    return;
-  }
-  // The pose is asked for at every kPoseStep-th column and interpolated in between (position
-  // linearly, attitude by normalised quaternion interpolation): over 16 columns (0.8 ms at
-  // 10 Hz × 2048) a train's motion is a straight line and a turn of a few 1e-5 rad, so the
-  // columns' poses are those of the trajectory to far below a micrometre, without a slerp and
-  // a rotation matrix per column. The anchors are fixed columns, so the result does not depend
-  // on how the columns are split into tasks.
-  const double period = params_.pattern.columnPeriod();
-  int anchor = -1;
-  Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), z = a;
-  Eigen::Quaterniond qa = Eigen::Quaterniond::Identity(), qz = qa;
-  for (int c = begin; c < end; ++c) {
-    const int first = c / kPoseStep * kPoseStep;
-    if (first != anchor) {
-      anchor = first;
-      a = pose(first * period);
-      z = pose((first + kPoseStep) * period);
-      qa = Eigen::Quaterniond(a.linear());
-      qz = Eigen::Quaterniond(z.linear());
-      if (qa.dot(qz) < 0.0)
-        qz.coeffs() = -qz.coeffs();
-    }
-    const int k = c - first;
-    if (k == 0) {
-      *out++ = a;
-      continue;
-    }
-    const double u = static_cast<double>(k) / kPoseStep;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = (1.0 - u) * a.translation() + u * z.translation();
-    T.linear() = Eigen::Quaterniond((1.0 - u) * qa.coeffs() + u * qz.coeffs())
-                     .normalized()
-                     .toRotationMatrix();
-    *out++ = T;
-  }
 }
 
 }  // namespace trainsim::lidar
