@@ -27,7 +27,7 @@ bench: build
 	@for b in build/bin/bench_*; do echo "== $$b"; $$b; done
 
 format:
-	git ls-files '*.cpp' '*.hpp' '*.h' | xargs clang-format -i
+	git ls-files '*.cpp' '*.hpp' '*.h' '*.inc' | xargs clang-format -i
 
 docs: build
 	build/bin/trainsim schema > docs/SCENARIO.md

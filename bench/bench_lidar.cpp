@@ -420,9 +420,9 @@ int main(int argc, char** argv) {
     }
     fmt::print(
         "{} points; median of 200: {:.2f} ms a frame, raw traversal {:.2f} ms, ratio {:.3f}; "
-        "traversal with labels {:.2f} ms ({:.3f} x raw)\n",
+        "traversal with labels {:.2f} ms ({:.3f} x raw); returns on {}\n",
         f.points.size(), median(frame), median(raw), median(frame) / median(raw), median(labelled),
-        median(labelled) / median(raw));
+        median(labelled) / median(raw), lidar::Scanner::vectorIsa());
     return 0;
   }
 
@@ -430,8 +430,9 @@ int main(int argc, char** argv) {
   const auto p0 = Clock::now();
   const World def = makeWorld(0.0);
   fmt::print(
-      "default scenario planned in {:.1f} s; 64 x 2048 frames on {} threads, median of {}\n\n",
-      ms(p0) / 1e3, kThreads, kRepeats);
+      "default scenario planned in {:.1f} s; 64 x 2048 frames on {} threads, median of {}; "
+      "returns on {}\n\n",
+      ms(p0) / 1e3, kThreads, kRepeats, lidar::Scanner::vectorIsa());
   fmt::print(
       "| scene | frames | points | frame ms | raw traversal ms | frame / raw | scene build ms "
       "| peak MB (tiles + BVHs) | x first row ms | x first row MB |\n"

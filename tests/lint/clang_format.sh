@@ -4,7 +4,7 @@ cd "$1"
 if ! git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   echo "not a git checkout: nothing to check"; exit 0
 fi
-mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h')
+mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h' '*.inc')
 bad=()
 for f in "${files[@]}"; do
   clang-format --dry-run --Werror "$f" >/dev/null 2>&1 || bad+=("$f")

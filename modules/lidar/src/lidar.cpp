@@ -73,6 +73,10 @@ struct Scanner::Block {
 
 Scanner::~Scanner() = default;
 
+std::string_view Scanner::vectorIsa() {
+  return detail::avx2Returns() ? "AVX2" : "SSE2";
+}
+
 std::unique_ptr<Scanner::Scratch> Scanner::makeScratch() const {
   auto s = std::make_unique<Scratch>();
   const auto W = static_cast<std::size_t>(params_.pattern.columns);

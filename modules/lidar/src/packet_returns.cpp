@@ -1,200 +1,204 @@
+// A packet's returns in vector registers: the kernel (packet_returns_kernel.inc) compiled twice,
+// for SSE2 (the x86-64 baseline) and for AVX2, and the AVX2 one run where the processor has it.
+// Written with GCC's vector types (arithmetic and comparisons lane by lane) because the compiler
+// does not vectorise this loop by itself (its conversions between float and double and its square
+// root stop it) and Eigen 3.4 converts float to double one lane at a time. The AVX2 build is
+// compiled by a target pragma in this file rather than by -mavx2 on a file of its own: the
+// inline functions of the headers (Eigen's, Backscatter's) then stay baseline code, so no copy of
+// them built for AVX2 can stand in for the baseline one elsewhere in the program.
 #include "packet_returns.hpp"
 
-#include <bit>
-#include <cmath>
 #include <cstring>
+#include <utility>
 
-#include <emmintrin.h>
+#include <immintrin.h>
 
 namespace trainsim::lidar::detail {
+
+namespace sse2 {
 namespace {
 
-// GCC's vector types: arithmetic and comparisons lane by lane in SSE2 registers. Written by hand
-// because the compiler does not vectorise this loop by itself (its conversions between float and
-// double and its square root stop it) and Eigen 3.4 converts float to double one lane at a time.
-using v4f = float __attribute__((vector_size(16)));
-using v4i = std::int32_t __attribute__((vector_size(16)));
-using v2d = double __attribute__((vector_size(16)));
+constexpr int kFloats = 4, kDoubles = 2;
+using vf = float __attribute__((vector_size(16)));
+using vi = std::int32_t __attribute__((vector_size(16)));
+using vd = double __attribute__((vector_size(16)));
 using v2f = float __attribute__((vector_size(8)));
+constexpr vi kLaneBits{1, 2, 4, 8};
 
-v4f load4(const float* p) {
-  v4f v;
+// Loads and stores through memcpy: the compiler makes them one unaligned vector move each.
+vf loadF(const float* p) {
+  vf v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-v2d load2(const double* p) {
-  v2d v;
+vd loadD(const double* p) {
+  vd v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-void store4(float* p, v4f v) {
+void storeF(float* p, vf v) {
   std::memcpy(p, &v, sizeof v);
 }
-void store2(double* p, v2d v) {
+void storeD(double* p, vd v) {
   std::memcpy(p, &v, sizeof v);
 }
-v4f splat(float x) {
-  return v4f{x, x, x, x};
+vf absF(vf x) {
+  return __builtin_bit_cast(vf, __builtin_bit_cast(vi, x) & 0x7FFFFFFF);
 }
-// Lanes 0–1 and 2–3 as doubles, and back.
-v2d low(v4f x) {
-  return __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), v2d);
+vf sqrtF(vf x) {
+  return __builtin_bit_cast(vf, _mm_sqrt_ps(__builtin_bit_cast(__m128, x)));
 }
-v2d high(v4f x) {
-  return __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), v2d);
+unsigned bitsF(vi mask) {
+  return static_cast<unsigned>(_mm_movemask_ps(__builtin_bit_cast(__m128, mask)));
 }
-v4f narrow(v2d lo, v2d hi) {
+unsigned bitsD(decltype(vd{} < vd{}) mask) {
+  return static_cast<unsigned>(_mm_movemask_pd(__builtin_bit_cast(__m128d, mask)));
+}
+// Lanes k, k + 1 as doubles.
+vd widen(vf x, int k) {
+  return k == 0 ? __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1), vd)
+                : __builtin_convertvector(__builtin_shufflevector(x, x, 2, 3), vd);
+}
+vf narrow(vd lo, vd hi) {
   const v2f a = __builtin_convertvector(lo, v2f), b = __builtin_convertvector(hi, v2f);
   return __builtin_shufflevector(a, b, 0, 1, 2, 3);
 }
-v4f abs4(v4f x) {
-  return std::bit_cast<v4f>(std::bit_cast<v4i>(x) & 0x7FFFFFFF);
-}
-v4f sqrt4(v4f x) {
-  return std::bit_cast<v4f>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));
-}
-unsigned bits4(v4i mask) {
-  return static_cast<unsigned>(_mm_movemask_ps(std::bit_cast<__m128>(mask)));
-}
-unsigned bits2(decltype(v2d{} < v2d{}) mask) {
-  return static_cast<unsigned>(_mm_movemask_pd(std::bit_cast<__m128d>(mask)));
+
+// Four whole points (lanes h … h + 3): the lanes' fields transposed into the points' two 16-byte
+// halves, laid out as storePoint() lays them.
+void storePoints(LidarPoint* to, const float* x, const float* y, const float* z,
+                 const float* intensity, const float* range, const RayPacket& q, int h,
+                 std::int32_t column) {
+  __m128 a = _mm_load_ps(x), b = _mm_load_ps(y), c = _mm_load_ps(z), d = _mm_load_ps(intensity);
+  _MM_TRANSPOSE4_PS(a, b, c, d);
+  // cls | material << 16 (return index 0), by lane.
+  const __m128i labels = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q.cls + h));
+  const __m128i materials = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q.material + h));
+  __m128 e = _mm_load_ps(range),
+         f = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q.object + h))),
+         g = _mm_castsi128_ps(_mm_setr_epi32(column, column + 1, column + 2, column + 3)),
+         k = _mm_castsi128_ps(_mm_unpacklo_epi16(labels, materials));
+  _MM_TRANSPOSE4_PS(e, f, g, k);
+  auto* out = reinterpret_cast<float*>(to);
+  _mm_store_ps(out, a);
+  _mm_store_ps(out + 4, e);
+  _mm_store_ps(out + 8, b);
+  _mm_store_ps(out + 12, f);
+  _mm_store_ps(out + 16, c);
+  _mm_store_ps(out + 20, g);
+  _mm_store_ps(out + 24, d);
+  _mm_store_ps(out + 28, k);
 }
 
-// The backscatter of lanes k, k + 1 (Backscatter::operator(), lane by lane): 0 for a miss (its
-// cos θ is NaN) and past the maximum incidence angle.
-v2d backscatter(const Backscatter& a, const Backscatter& b, v2d c) {
-  const v2d diffuse{a.diffuse(), b.diffuse()}, cos_max{a.cosMax(), b.cosMax()};
-  v2d r = diffuse * c;
-  if (a.specular() > 0.0 || b.specular() > 0.0) {  // most surfaces have no specular part
-    const v2d c2 = c * c, inv_m2{a.invM2(), b.invM2()}, specular{a.specular(), b.specular()};
-    alignas(16) double e[2];
-    store2(e, -(1.0 - c2) * inv_m2 / c2);
-    Eigen::Map<Eigen::Array2d, Eigen::Aligned16> exponential(e);
-    exponential = exponential.exp();
-    r += specular * load2(e) / (c2 * c2);  // 0 · ∞ = NaN at c = 0 is dropped below
-  }
-  return c > 0.0 && c >= cos_max ? r : v2d{};
-}
-
-// pseudoAzimuth() lane by lane.
-v4f azimuthKeys(v4f x, v4f y) {
-  const v4f d = abs4(x) + abs4(y), t = y / d;
-  v4f a = x >= 0.0f ? t : 2.0f - t;
-  a = (a < 0.0f ? a + 4.0f : a) + 0.0f;
-  return d == 0.0f ? v4f{} : a;
-}
+#include "packet_returns_kernel.inc"
 
 }  // namespace
+}  // namespace sse2
 
-std::size_t packetReturns(const PacketSetup& s, const RayPacket& q, std::size_t c0,
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2 {
+namespace {
+
+constexpr int kFloats = 8, kDoubles = 4;
+using vf = float __attribute__((vector_size(32)));
+using vi = std::int32_t __attribute__((vector_size(32)));
+using vd = double __attribute__((vector_size(32)));
+using v4f = float __attribute__((vector_size(16)));
+constexpr vi kLaneBits{1, 2, 4, 8, 16, 32, 64, 128};
+
+// Loads and stores through memcpy: the compiler makes them one unaligned vector move each.
+vf loadF(const float* p) {
+  vf v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+vd loadD(const double* p) {
+  vd v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+void storeF(float* p, vf v) {
+  std::memcpy(p, &v, sizeof v);
+}
+void storeD(double* p, vd v) {
+  std::memcpy(p, &v, sizeof v);
+}
+vf absF(vf x) {
+  return __builtin_bit_cast(vf, __builtin_bit_cast(vi, x) & 0x7FFFFFFF);
+}
+vf sqrtF(vf x) {
+  return __builtin_bit_cast(vf, _mm256_sqrt_ps(__builtin_bit_cast(__m256, x)));
+}
+unsigned bitsF(vi mask) {
+  return static_cast<unsigned>(_mm256_movemask_ps(__builtin_bit_cast(__m256, mask)));
+}
+unsigned bitsD(decltype(vd{} < vd{}) mask) {
+  return static_cast<unsigned>(_mm256_movemask_pd(__builtin_bit_cast(__m256d, mask)));
+}
+// Lanes k … k + 3 as doubles.
+vd widen(vf x, int k) {
+  return k == 0 ? __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3), vd)
+                : __builtin_convertvector(__builtin_shufflevector(x, x, 4, 5, 6, 7), vd);
+}
+vf narrow(vd lo, vd hi) {
+  const v4f a = __builtin_convertvector(lo, v4f), b = __builtin_convertvector(hi, v4f);
+  return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+
+// Eight whole points: the eight fields' lanes transposed (an 8 × 8 transpose of 32-bit words)
+// into the points' 32 bytes, laid out as storePoint() lays them.
+void storePoints(LidarPoint* to, const float* x, const float* y, const float* z,
+                 const float* intensity, const float* range, const RayPacket& q, int /*h*/,
+                 std::int32_t column) {
+  const __m256i labels =
+      _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q.cls)));
+  const __m256i materials =
+      _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q.material)));
+  const __m256 r0 = _mm256_load_ps(x), r1 = _mm256_load_ps(y), r2 = _mm256_load_ps(z),
+               r3 = _mm256_load_ps(intensity), r4 = _mm256_load_ps(range),
+               r5 = _mm256_castsi256_ps(
+                   _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q.object))),
+               r6 = _mm256_castsi256_ps(_mm256_add_epi32(
+                   _mm256_set1_epi32(column), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))),
+               r7 = _mm256_castsi256_ps(_mm256_or_si256(labels, _mm256_slli_epi32(materials, 16)));
+  const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpackhi_ps(r0, r1),
+               t2 = _mm256_unpacklo_ps(r2, r3), t3 = _mm256_unpackhi_ps(r2, r3),
+               t4 = _mm256_unpacklo_ps(r4, r5), t5 = _mm256_unpackhi_ps(r4, r5),
+               t6 = _mm256_unpacklo_ps(r6, r7), t7 = _mm256_unpackhi_ps(r6, r7);
+  // s_j: fields 0–3 (s0–s3) or 4–7 (s4–s7) of points j and j + 4.
+  const __m256 s0 = _mm256_shuffle_ps(t0, t2, 0x44), s1 = _mm256_shuffle_ps(t0, t2, 0xEE),
+               s2 = _mm256_shuffle_ps(t1, t3, 0x44), s3 = _mm256_shuffle_ps(t1, t3, 0xEE),
+               s4 = _mm256_shuffle_ps(t4, t6, 0x44), s5 = _mm256_shuffle_ps(t4, t6, 0xEE),
+               s6 = _mm256_shuffle_ps(t5, t7, 0x44), s7 = _mm256_shuffle_ps(t5, t7, 0xEE);
+  auto* out = reinterpret_cast<float*>(to);
+  _mm256_store_ps(out, _mm256_permute2f128_ps(s0, s4, 0x20));
+  _mm256_store_ps(out + 8, _mm256_permute2f128_ps(s1, s5, 0x20));
+  _mm256_store_ps(out + 16, _mm256_permute2f128_ps(s2, s6, 0x20));
+  _mm256_store_ps(out + 24, _mm256_permute2f128_ps(s3, s7, 0x20));
+  _mm256_store_ps(out + 32, _mm256_permute2f128_ps(s0, s4, 0x31));
+  _mm256_store_ps(out + 40, _mm256_permute2f128_ps(s1, s5, 0x31));
+  _mm256_store_ps(out + 48, _mm256_permute2f128_ps(s2, s6, 0x31));
+  _mm256_store_ps(out + 56, _mm256_permute2f128_ps(s3, s7, 0x31));
+}
+
+#include "packet_returns_kernel.inc"
+
+}  // namespace
+}  // namespace avx2
+#pragma GCC pop_options
+
+bool avx2Returns() {
+  static const bool have = __builtin_cpu_supports("avx2") != 0;
+  return have;
+}
+
+std::size_t packetReturns(const PacketSetup& setup, const RayPacket& packet, std::size_t c0,
                           std::size_t lanes, const double* noise, const std::uint8_t* kept,
-                          LidarPoint* points, float* keys) {
-  const std::size_t R = s.returns, P = s.padded;
-  alignas(16) double rho[8];
-  alignas(16) float range[8], x[8], y[8], z[8], intensity[8], key[8];
-  unsigned ok = 0;
-  for (std::size_t h = 0; h < 8; h += 4) {
-    // The incidence angle, from the unnormalised normal (a miss has none: 0 / 0).
-    const v4f nx = load4(q.ng_x + h), ny = load4(q.ng_y + h), nz = load4(q.ng_z + h);
-    const v4f dot = nx * load4(q.dir_x + h) + ny * load4(q.dir_y + h) + nz * load4(q.dir_z + h);
-    const v4f cos_theta = abs4(dot) / sqrt4(nx * nx + ny * ny + nz * nz);
-    // The backscatter and the noisy range, in double.
-    const v4f truth = load4(q.t_far + h);
-    v2d measured[2];
-    for (std::size_t k = 0; k < 4; k += 2) {
-      const v2d ck = k == 0 ? low(cos_theta) : high(cos_theta),
-                tk = k == 0 ? low(truth) : high(truth);
-      const v2d r =
-          backscatter(s.backscatter[q.material[h + k]], s.backscatter[q.material[h + k + 1]], ck);
-      store2(rho + h + k, r);
-      ok |= bits2(r > 0.0 && r >= s.threshold) << (h + k);
-      const v2d n = R == 1 ? load2(noise + h + k) : v2d{noise[(h + k) * R], noise[(h + k + 1) * R]};
-      measured[k / 2] = tk + (s.sigma0 + s.sigma1 * tk) * n;
-    }
-    const v4f m = narrow(measured[0], measured[1]);
-    store4(range + h, m);
-    ok &= ~(0xFu << h) | bits4(m >= s.range_min && m <= s.range_max) << h;
-    // The point deskewed to the frame time.
-    const std::size_t c = c0 + h;
-    const auto field = [&](std::size_t f) { return load4(s.frames + f * P + c); };
-    const v4f vx = load4(s.ax + c) * m, vy = load4(s.ay + c) * m, vz = load4(s.az + c) * m;
-    const std::size_t D = s.deskew, T = s.shift;
-    const v4f px = field(D) * vx + field(D + 1) * vy + field(D + 2) * vz + field(T);
-    const v4f py = field(D + 3) * vx + field(D + 4) * vy + field(D + 5) * vz + field(T + 1);
-    store4(x + h, px);
-    store4(y + h, py);
-    store4(z + h, field(D + 6) * vx + field(D + 7) * vy + field(D + 8) * vz + field(T + 2));
-    store4(key + h, azimuthKeys(px, py));
-    // The intensity (kUnit: the reflectivity, clamped at 1; others lane by lane).
-    v2d written[2];
-    for (std::size_t k = 0; k < 4; k += 2) {
-      v2d r = load2(rho + h + k);
-      if (s.falloff) {
-        const v2d ten = 10.0 / (k == 0 ? low(m) : high(m));
-        r *= ten * ten;
-      }
-      if (s.scale == IntensityScale::kUnit) {
-        written[k / 2] = r < 0.0 ? v2d{} : r > 1.0 ? v2d{1.0, 1.0} : r;
-      } else {
-        alignas(16) double lane[2];
-        store2(lane, r);
-        written[k / 2] = v2d{scaled(lane[0], s.scale), scaled(lane[1], s.scale)};
-      }
-    }
-    store4(intensity + h, narrow(written[0], written[1]));
-  }
-  for (std::size_t k = 0; k < 8; ++k)
-    if (kept[k] == 0)
-      ok &= ~(1u << k);
-  ok &= (1u << lanes) - 1;
-  if (s.directions != nullptr)  // keyed as measured: as Scanner::measured() gives them
-    for (std::size_t k = 0; k < lanes; ++k) {
-      const Eigen::Vector3f v =
-          (s.directions[c0 + k] * static_cast<double>(range[k])).cast<float>();
-      key[k] = pseudoAzimuth(v.x(), v.y());
-    }
-
-  if (lanes < 8 || R != 1) {  // the ring's last columns, or two slots a pulse
-    for (std::size_t k = 0; k < lanes; ++k) {
-      const std::size_t slot = (c0 + k) * R;
-      keys[slot] = (ok >> k & 1u) != 0 ? key[k] : kNoReturn;
-      storePoint(points[slot], {x[k], y[k], z[k]}, intensity[k], range[k], q.object[k],
-                 static_cast<std::uint16_t>(c0 + k), s.ring, q.cls[k],
-                 static_cast<std::uint8_t>(q.material[k]), 0);
-    }
-    return static_cast<std::size_t>(std::popcount(ok));
-  }
-  // Eight whole points, four at a time: the lanes' fields transposed into the points' two
-  // 16-byte halves (laid out as storePoint() lays them), stored whether or not the lane returned
-  // (an empty slot's point is not read).
-  const __m128i labels = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.cls));
-  const __m128i materials = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.material));
-  // cls | material << 16 (return index 0), by lane.
-  const __m128i kinds[2] = {_mm_unpacklo_epi16(labels, materials),
-                            _mm_unpackhi_epi16(labels, materials)};
-  for (std::size_t h = 0; h < 8; h += 4) {
-    __m128 a = _mm_load_ps(x + h), b = _mm_load_ps(y + h), c = _mm_load_ps(z + h),
-           d = _mm_load_ps(intensity + h);
-    _MM_TRANSPOSE4_PS(a, b, c, d);
-    const auto column = static_cast<std::int32_t>(c0 + h) | static_cast<std::int32_t>(s.ring) << 16;
-    __m128 e = _mm_load_ps(range + h),
-           f = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q.object + h))),
-           g = _mm_castsi128_ps(_mm_setr_epi32(column, column + 1, column + 2, column + 3)),
-           k = _mm_castsi128_ps(kinds[h / 4]);
-    _MM_TRANSPOSE4_PS(e, f, g, k);
-    auto* to = reinterpret_cast<__m128*>(points + c0 + h);
-    _mm_store_ps(reinterpret_cast<float*>(to), a);
-    _mm_store_ps(reinterpret_cast<float*>(to + 1), e);
-    _mm_store_ps(reinterpret_cast<float*>(to + 2), b);
-    _mm_store_ps(reinterpret_cast<float*>(to + 3), f);
-    _mm_store_ps(reinterpret_cast<float*>(to + 4), c);
-    _mm_store_ps(reinterpret_cast<float*>(to + 5), g);
-    _mm_store_ps(reinterpret_cast<float*>(to + 6), d);
-    _mm_store_ps(reinterpret_cast<float*>(to + 7), k);
-    const v4i returned = (v4i{1, 2, 4, 8} & static_cast<std::int32_t>(ok >> h)) != 0;
-    store4(keys + c0 + h, returned ? load4(key + h) : splat(kNoReturn));
-  }
-  return static_cast<std::size_t>(std::popcount(ok));
+                          LidarPoint* points, float* keys, Isa isa) {
+  if (isa == Isa::kAvx2 || (isa == Isa::kBest && avx2Returns()))
+    return avx2::returns(setup, packet, c0, lanes, noise, kept, points, keys);
+  return sse2::returns(setup, packet, c0, lanes, noise, kept, points, keys);
 }
 
 }  // namespace trainsim::lidar::detail

@@ -1,7 +1,8 @@
 #pragma once
-// A packet's returns worked out eight lanes at a time in SSE2 vectors (the x86-64 baseline, so
-// the bytes are the same on every machine): incidence, Lambertian-Beckmann backscatter, range
-// noise, deskewing, intensity, the ring's azimuth key and the points, for one ray a pulse.
+// A packet's returns worked out eight lanes at a time in vector registers (SSE2, the x86-64
+// baseline, or AVX2 where the processor has it; the same bytes either way): incidence,
+// Lambertian-Beckmann backscatter, range noise, deskewing, intensity, the ring's azimuth key and
+// the points, for one ray a pulse.
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -73,12 +74,19 @@ struct PacketSetup {
   std::size_t returns = 1;  // slots a pulse has
 };
 
+/// Which build of the returns to run: the best the processor has, or one named (for tests that
+/// compare them; kAvx2 only where avx2Returns()).
+enum class Isa { kBest, kSse2, kAvx2 };
+
+/// Whether the processor runs the AVX2 build of the returns (both give the same bytes).
+bool avx2Returns();
+
 /// Works out the returns of columns c0 + k, k < lanes ≤ 8, from their cast `packet`, with
 /// noise[k · returns] and kept[k] their draws (kept 0: dropped): writes the first slot of each
 /// (slot (c0 + k) · returns of `points` and `keys`; the key kNoReturn where it has no return,
 /// and then its point is not to be read) and returns how many returned.
 std::size_t packetReturns(const PacketSetup& setup, const RayPacket& packet, std::size_t c0,
                           std::size_t lanes, const double* noise, const std::uint8_t* kept,
-                          LidarPoint* points, float* keys);
+                          LidarPoint* points, float* keys, Isa isa = Isa::kBest);
 
 }  // namespace trainsim::lidar::detail

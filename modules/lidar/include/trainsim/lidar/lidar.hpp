@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -108,6 +109,9 @@ class Scanner {
   Scanner(const Scanner&) = delete;
   Scanner& operator=(const Scanner&) = delete;
   const LidarParams& params() const { return params_; }
+  /// The vector instructions each return's work runs on, on this processor: "AVX2" where it has
+  /// them, "SSE2" (the x86-64 baseline) otherwise. The output is the same bytes on either.
+  static std::string_view vectorIsa();
   /// Pulses (column × laser) and rays (pulses × sub-rays) of a frame.
   std::int64_t pulsesPerFrame() const {
     return static_cast<std::int64_t>(params_.pattern.columns) *
