@@ -3,24 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <condition_variable>
-#include <deque>
-#include <functional>
-#include <future>
 #include <map>
-#include <mutex>
-#include <thread>
 
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
 #include <vtkCamera.h>
-#include <vtkCellArray.h>
-#include <vtkCellData.h>
 #include <vtkFloatArray.h>
 #include <vtkLight.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkPropCollection.h>
@@ -30,85 +21,16 @@
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "frustum.hpp"
 #include "level_of_detail.hpp"
+#include "render_thread.hpp"
 #include "trainsim/core/error.hpp"
+#include "vtk_meshes.hpp"
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 
 namespace trainsim::camera {
 namespace {
-
-// An OpenGL context belongs to one thread at a time, and Xlib is not thread-safe without
-// XInitThreads, which would have to run before anything else opens a display. So every VTK call
-// of every renderer runs on one thread of the process; the software rasteriser (llvmpipe)
-// spreads each draw over the cores itself.
-class RenderThread {
- public:
-  RenderThread() : thread_([this] { loop(); }) {}
-  ~RenderThread() {
-    {
-      const std::lock_guard lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    thread_.join();
-  }
-
-  // Runs f on the render thread and returns its result (or rethrows its exception).
-  template <typename F>
-  auto run(F f) -> decltype(f()) {
-    std::packaged_task<decltype(f())()> task(std::move(f));
-    auto result = task.get_future();
-    {
-      const std::lock_guard lock(mutex_);
-      jobs_.emplace_back([&task] { task(); });
-    }
-    wake_.notify_one();
-    return result.get();
-  }
-
-  // The process's render thread, made when the first renderer needs it, ended with the last.
-  static std::shared_ptr<RenderThread> shared() {
-    static std::mutex mutex;
-    static std::weak_ptr<RenderThread> current;
-    const std::lock_guard lock(mutex);
-    std::shared_ptr<RenderThread> t = current.lock();
-    if (!t) {
-      t = std::make_shared<RenderThread>();
-      current = t;
-    }
-    return t;
-  }
-
- private:
-  void loop() {
-    for (;;) {
-      std::function<void()> job;
-      {
-        std::unique_lock lock(mutex_);
-        wake_.wait(lock, [this] { return stop_ || !jobs_.empty(); });
-        if (jobs_.empty())
-          return;
-        job = std::move(jobs_.front());
-        jobs_.pop_front();
-      }
-      job();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::deque<std::function<void()>> jobs_;
-  bool stop_ = false;
-  std::thread thread_;  // last: starts after the members it uses
-};
-
-// The id pass's colour of a surface: R the class, G and B the drawn object's slot + 1.
-std::array<std::uint8_t, 3> idColour(scene::ClassId cls, std::uint32_t slot) {
-  const std::uint32_t object = slot + 1;
-  return {static_cast<std::uint8_t>(cls), static_cast<std::uint8_t>(object >> 8),
-          static_cast<std::uint8_t>(object & 0xFF)};
-}
 
 // One level of a shared mesh as VTK polydata (float vertices relative to the mesh's origin),
 // with its triangles' surface colours ("albedo") and classes ("class"). A mesh with emitting
@@ -149,117 +71,6 @@ struct DrawnEntry {
   vtkActor* shadeActor() const { return shaded[level]; }  // null until made (shadeEntry())
 };
 
-vtkSmartPointer<vtkPolyDataMapper> colourMapper(vtkPolyData* poly, const char* array) {
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputData(poly);
-  mapper->SetScalarModeToUseCellFieldData();
-  mapper->SelectColorArray(array);
-  mapper->SetColorModeToDirectScalars();
-  mapper->ScalarVisibilityOn();
-  mapper->StaticOn();  // the data never changes: skip the pipeline's update checks
-  return mapper;
-}
-
-// Which of a mesh's triangles meshPolyData() takes: all, those that reflect light, or those
-// that emit it (with their emission colours as albedo).
-enum class Emitting { kAll, kNot, kOnly };
-
-bool anyEmits(const scene::Mesh& mesh) {
-  return std::any_of(mesh.parts.begin(), mesh.parts.end(), [](const scene::MeshPart& part) {
-    return scene::material(part.material).emits();
-  });
-}
-
-vtkSmartPointer<vtkPolyData> meshPolyData(const scene::Mesh& mesh,
-                                          Emitting which = Emitting::kAll) {
-  const auto taken = [which](const scene::MeshPart& part) {
-    return which == Emitting::kAll ||
-           scene::material(part.material).emits() == (which == Emitting::kOnly);
-  };
-  std::size_t cells = 0;
-  for (const scene::MeshPart& part : mesh.parts)
-    cells += taken(part) ? part.triangle_count : 0;
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.vertices.size()));
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), mesh.vertices[i].x(), mesh.vertices[i].y(),
-                     mesh.vertices[i].z());
-  vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(static_cast<vtkIdType>(cells), static_cast<vtkIdType>(3 * cells));
-  vtkNew<vtkUnsignedCharArray> albedo;
-  albedo->SetName("albedo");
-  albedo->SetNumberOfComponents(3);
-  albedo->SetNumberOfTuples(static_cast<vtkIdType>(cells));
-  vtkNew<vtkUnsignedCharArray> cls;
-  cls->SetName("class");
-  cls->SetNumberOfTuples(static_cast<vtkIdType>(cells));
-  vtkIdType cell = 0;
-  for (const scene::MeshPart& part : mesh.parts) {
-    if (!taken(part))
-      continue;
-    const scene::Material& m = scene::material(part.material);
-    const scene::Rgb c = which == Emitting::kOnly ? m.emission : m.colour;
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
-         ++t, ++cell) {
-      const auto& tri = mesh.triangles[t];
-      const vtkIdType ids[3] = {tri[0], tri[1], tri[2]};
-      polys->InsertNextCell(3, ids);
-      albedo->SetTypedTuple(cell, c.data());
-      cls->SetValue(cell, part.cls);
-    }
-  }
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->SetPoints(points);
-  poly->SetPolys(polys);
-  poly->GetCellData()->AddArray(albedo);
-  poly->GetCellData()->AddArray(cls);
-  return poly;
-}
-
-// The id pass's polydata of one object at one level: the level's points and triangles (shared,
-// not copied) with the object's own id colours.
-vtkSmartPointer<vtkPolyData> idPolyData(vtkPolyData* mesh_poly, std::uint32_t slot) {
-  vtkNew<vtkUnsignedCharArray> ids;
-  ids->SetName("id");
-  ids->SetNumberOfComponents(3);
-  const vtkIdType n = mesh_poly->GetNumberOfCells();
-  ids->SetNumberOfTuples(n);
-  auto* cls = vtkUnsignedCharArray::SafeDownCast(mesh_poly->GetCellData()->GetArray("class"));
-  for (vtkIdType t = 0; t < n; ++t)
-    ids->SetTypedTuple(t, idColour(cls->GetValue(t), slot).data());
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->SetPoints(mesh_poly->GetPoints());
-  poly->SetPolys(mesh_poly->GetPolys());
-  poly->GetCellData()->AddArray(ids);
-  return poly;
-}
-
-// A wire as a polyline in both passes' colours.
-vtkSmartPointer<vtkPolyData> wirePolyData(const scene::Wire& wire, std::uint32_t slot) {
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  for (const Eigen::Vector3f& p : wire.points)
-    points->InsertNextPoint(p.x(), p.y(), p.z());
-  vtkNew<vtkCellArray> lines;
-  lines->InsertNextCell(static_cast<vtkIdType>(wire.points.size()));
-  for (std::size_t k = 0; k < wire.points.size(); ++k)
-    lines->InsertCellPoint(static_cast<vtkIdType>(k));
-  vtkNew<vtkUnsignedCharArray> albedo, ids;
-  albedo->SetName("albedo");
-  albedo->SetNumberOfComponents(3);
-  albedo->InsertNextTypedTuple(scene::material(wire.material).colour.data());
-  ids->SetName("id");
-  ids->SetNumberOfComponents(3);
-  ids->InsertNextTypedTuple(idColour(wire.cls, slot).data());
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->SetPoints(points);
-  poly->SetLines(lines);
-  poly->GetCellData()->AddArray(albedo);
-  poly->GetCellData()->AddArray(ids);
-  return poly;
-}
-
 // Places a drawn thing's actors (one matrix shared by the passes).
 void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& translation) {
   vtkNew<vtkMatrix4x4> m;
@@ -275,43 +86,6 @@ void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& 
   if (vtkActor* shaded = e.shadeActor())
     shaded->SetUserMatrix(m);
 }
-
-// The view frustum in the camera frame: a box is outside if all its corners lie beyond one of
-// the four side planes, before the near plane or past the far plane.
-class Frustum {
- public:
-  Frustum(const Intrinsics& k, double near_m, double far_m, const Eigen::Isometry3d& T_cam_world)
-      : T_cam_world_(T_cam_world), near_(near_m), far_(far_m) {
-    // u ≥ −0.5: fx x + (cx + 0.5) z ≥ 0; u ≤ W − 0.5: −fx x + (W − 0.5 − cx) z ≥ 0; same in v.
-    planes_[0] = {k.fx, 0.0, k.cx + 0.5};
-    planes_[1] = {-k.fx, 0.0, k.width - 0.5 - k.cx};
-    planes_[2] = {0.0, k.fy, k.cy + 0.5};
-    planes_[3] = {0.0, -k.fy, k.height - 0.5 - k.cy};
-  }
-
-  bool meets(const scene::Box3d& box) const {
-    if (box.empty())
-      return false;
-    std::array<Eigen::Vector3d, 8> c;
-    for (int i = 0; i < 8; ++i)
-      c[i] = T_cam_world_ * Eigen::Vector3d(i & 1 ? box.max.x() : box.min.x(),
-                                            i & 2 ? box.max.y() : box.min.y(),
-                                            i & 4 ? box.max.z() : box.min.z());
-    const auto all = [&](auto outside) { return std::all_of(c.begin(), c.end(), outside); };
-    if (all([&](const Eigen::Vector3d& p) { return p.z() < near_; }) ||
-        all([&](const Eigen::Vector3d& p) { return p.z() > far_; }))
-      return false;
-    for (const Eigen::Vector3d& n : planes_)
-      if (all([&](const Eigen::Vector3d& p) { return n.dot(p) < 0.0; }))
-        return false;
-    return true;
-  }
-
- private:
-  Eigen::Isometry3d T_cam_world_;
-  double near_, far_;
-  std::array<Eigen::Vector3d, 4> planes_;
-};
 
 // Slot s is drawn as object s + 1 (0: nothing).
 void noteInstance(CameraImages& out, std::uint32_t slot, scene::InstanceId instance) {
