@@ -37,6 +37,7 @@
 #include <optional>
 #include <vector>
 
+#include "dataset_files.hpp"
 #include "trainsim/camera/kitti_projection.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/io/dataset_layout.hpp"
@@ -104,112 +105,11 @@ std::array<std::uint8_t, 3> ScanView::ramp(double t) {
 
 namespace {
 
-// The LiDARs and cameras a sequence has, by their folders (io::DatasetLayout's names): LiDAR i
-// writes velodyne[_i]/, camera i whichever of image_N/, depth_N/, semantic_N/ and instance_N/
-// it was asked for; listed by their first folder's name, in their sensors' order.
-QStringList lidarFolders(const QDir& sequence) {
-  QStringList out;
-  for (int i = 0; sequence.exists(QString::fromStdString(io::DatasetLayout::velodyneFolder(i)));
-       ++i)
-    out << QString::fromStdString(io::DatasetLayout::velodyneFolder(i));
-  return out;
-}
-
-QStringList cameraFolders(const QDir& sequence) {
-  const auto has = [&](int i) {
-    for (const std::string& folder :
-         {io::DatasetLayout::imageFolder(i), io::DatasetLayout::depthFolder(i),
-          io::DatasetLayout::semanticFolder(i), io::DatasetLayout::instanceFolder(i)})
-      if (sequence.exists(QString::fromStdString(folder)))
-        return true;
-    return false;
-  };
-  QStringList out;
-  for (int i = 0; has(i); ++i)
-    out << QString::fromStdString(io::DatasetLayout::imageFolder(i));
-  return out;
-}
-
-// The shown LiDAR's projection into the shown camera, from calib.txt's lines for the pair: Tr or
-// Tr_N, P_{camera + 2} and D_{camera + 2} when the camera has a lens.
-std::optional<camera::KittiProjection> pairProjection(const io::KittiCalib& calib, int lidar,
-                                                      int camera, QString& problem) {
-  const std::string p_name = "P" + std::to_string(camera + 2);
-  const std::string tr_name = lidar == 0 ? "Tr" : "Tr_" + std::to_string(lidar);
-  const std::string d_name = "D" + std::to_string(camera + 2);
-  const auto matrix = [&](const std::string& name) -> std::optional<Eigen::Matrix<double, 3, 4>> {
-    const auto it = calib.find(name);
-    if (it == calib.end() || it->second.size() != 12) {
-      problem = QString(
-                    "calib.txt has no %1 of 12 numbers: the points are not drawn on the "
-                    "picture")
-                    .arg(QString::fromStdString(name));
-      return std::nullopt;
-    }
-    return Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(it->second.data());
-  };
-  const auto P = matrix(p_name), Tr = matrix(tr_name);
-  if (!P || !Tr)
-    return std::nullopt;
-  std::optional<camera::Distortion> lens;
-  if (const auto d = calib.find(d_name); d != calib.end()) {
-    if (d->second.size() != 5) {
-      problem = QString(
-                    "calib.txt's %1 is not k1 k2 p1 p2 k3: the points are not drawn on the "
-                    "picture")
-                    .arg(QString::fromStdString(d_name));
-      return std::nullopt;
-    }
-    lens = camera::Distortion{d->second[0], d->second[1], d->second[2], d->second[3], d->second[4]};
-  }
-  std::string why;
-  auto out = camera::KittiProjection::fromCalib(*P, *Tr, lens, why);
-  if (!out)
-    problem = QString("calib.txt's %1: %2; the points are not drawn on the picture")
-                  .arg(QString::fromStdString(p_name), QString::fromStdString(why));
-  return out;
-}
-
-// One row of instances.csv: what an instance id stands for.
-struct InstanceRow {
-  QString cls, track, state;
-};
-
-// instances.csv by instance id (older datasets have fewer columns: those missing stay empty);
-// empty when there is none.
-std::map<int, InstanceRow> readInstances(const QString& path) {
-  std::map<int, InstanceRow> out;
-  QFile file(path);
-  if (!file.open(QIODevice::ReadOnly | QIODevice::Text))
-    return out;
-  const QStringList header = QString::fromUtf8(file.readLine()).trimmed().split(',');
-  const auto column = [&](const char* name) { return header.indexOf(name); };
-  const int id = column("instance"), cls = column("class"), track = column("track"),
-            state = column("state");
-  while (!file.atEnd()) {
-    const QStringList cells = QString::fromUtf8(file.readLine()).trimmed().split(',');
-    const auto cell = [&](int i) { return i >= 0 && i < cells.size() ? cells[i] : QString(); };
-    bool ok = false;
-    const int key = cell(id).toInt(&ok);
-    if (ok)
-      out[key] = {cell(cls), cell(track), cell(state)};
-  }
-  return out;
-}
-
 // The frame's images of one camera that a pixel's description reads, loaded on first use.
 struct PixelImages {
   int frame = -1, camera = -1;
   std::optional<io::PngImage> semantic, instance, depth;
 };
-
-std::optional<io::PngImage> readPng(const QString& path) {
-  try {
-    return io::decodePng(io::readFile(path.toStdString()));
-  } catch (const std::exception&) {
-    return std::nullopt;  // that output is off, or the file is unreadable: not described
-  }
-}
 
 }  // namespace
 
