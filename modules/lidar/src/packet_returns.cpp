@@ -25,26 +25,6 @@ using vd = double __attribute__((vector_size(16)));
 using v2f = float __attribute__((vector_size(8)));
 constexpr vi kLaneBits{1, 2, 4, 8};
 
-// Loads and stores through memcpy: the compiler makes them one unaligned vector move each.
-vf loadF(const float* p) {
-  vf v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-vd loadD(const double* p) {
-  vd v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-void storeF(float* p, vf v) {
-  std::memcpy(p, &v, sizeof v);
-}
-void storeD(double* p, vd v) {
-  std::memcpy(p, &v, sizeof v);
-}
-vf absF(vf x) {
-  return __builtin_bit_cast(vf, __builtin_bit_cast(vi, x) & 0x7FFFFFFF);
-}
 vf sqrtF(vf x) {
   return __builtin_bit_cast(vf, _mm_sqrt_ps(__builtin_bit_cast(__m128, x)));
 }
@@ -107,26 +87,6 @@ using vd = double __attribute__((vector_size(32)));
 using v4f = float __attribute__((vector_size(16)));
 constexpr vi kLaneBits{1, 2, 4, 8, 16, 32, 64, 128};
 
-// Loads and stores through memcpy: the compiler makes them one unaligned vector move each.
-vf loadF(const float* p) {
-  vf v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-vd loadD(const double* p) {
-  vd v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-void storeF(float* p, vf v) {
-  std::memcpy(p, &v, sizeof v);
-}
-void storeD(double* p, vd v) {
-  std::memcpy(p, &v, sizeof v);
-}
-vf absF(vf x) {
-  return __builtin_bit_cast(vf, __builtin_bit_cast(vi, x) & 0x7FFFFFFF);
-}
 vf sqrtF(vf x) {
   return __builtin_bit_cast(vf, _mm256_sqrt_ps(__builtin_bit_cast(__m256, x)));
 }
