@@ -64,6 +64,17 @@ const std::vector<double> kOs1BeamAzimuth = {
     3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055,
     -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164};
 
+// sensors-reference.md 1.3 (the VeloView calibration's angles). Its azimuths are printed the
+// other way round from the calibration's rot_correction (laser 0: +0.0244 rad), which is what
+// the driver adds and what the preset holds.
+const std::vector<double> kVlp32cElevation = {
+    -25.0,  -1.0,   -1.667, -15.639, -11.31, 0.0,    -0.667, -8.843, -7.254, 0.333,  -0.333,
+    -6.148, -5.333, 1.333,  0.667,   -4.0,   -4.667, 1.667,  1.0,    -3.667, -3.333, 3.333,
+    2.333,  -2.667, -3.0,   7.0,     4.667,  -2.333, -2.0,   15.0,   10.333, -1.333};
+const std::vector<double> kVlp32cAzimuthAsPrinted = {
+    -1.4, 4.2, -1.4, 1.4, -1.4, 1.4, -4.2, 1.4, -1.4, 4.2, -1.4, 1.4, -4.2, 1.4, -4.2, 1.4,
+    -1.4, 4.2, -1.4, 4.2, -4.2, 1.4, -1.4, 1.4, -1.4, 1.4, -1.4, 4.2, -4.2, 1.4, -1.4, 1.4};
+
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 TEST(LidarPresets, ReproduceTheirDatasheetTables) {
@@ -78,7 +89,8 @@ TEST(LidarPresets, ReproduceTheirDatasheetTables) {
   const Case cases[] = {{"vlp16", &kVlp16Elevation, &zeros16, 1.0, 1808},
                         {"hdl32", &kHdl32Elevation, &zeros32, 1.0, 2170},
                         {"hdl64", &kHdl64Elevation, &kHdl64AzimuthCorrection, 1.0, 2083},
-                        {"os1_64", &kOs1Altitude, &kOs1BeamAzimuth, -1.0, 1024}};
+                        {"os1_64", &kOs1Altitude, &kOs1BeamAzimuth, -1.0, 1024},
+                        {"vlp32c", &kVlp32cElevation, &kVlp32cAzimuthAsPrinted, -1.0, 1808}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const lidar::ScanPattern p = lidar::preset(c.name, 10.0);
@@ -107,6 +119,10 @@ TEST(LidarPresets, ReproduceTheirDatasheetTables) {
   const lidar::ScanPattern v = lidar::preset("vlp16");
   for (std::size_t l = 0; l < 16; ++l)
     EXPECT_NEAR(v.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l), 1e-12);
+  // The VLP-32C fires its lasers in pairs, 2.304 µs apart (the driver's 32C timing table).
+  const lidar::ScanPattern u = lidar::preset("vlp32c");
+  for (std::size_t l = 0; l < 32; ++l)
+    EXPECT_NEAR(u.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l / 2), 1e-12);
   EXPECT_THROW(lidar::preset("hdl65"), ConfigError);
 }
 

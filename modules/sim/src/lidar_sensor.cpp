@@ -28,12 +28,11 @@ static_assert(std::endian::native == std::endian::little,
 namespace units = scenario::units;
 constexpr scenario::Unit kM = units::si("m");
 
-enum class LidarModel { kHdl64, kVlp16, kHdl32, kOs1_64, kUniform };
-constexpr EnumName<LidarModel> kLidarModelNames[] = {{LidarModel::kHdl64, "hdl64"},
-                                                     {LidarModel::kVlp16, "vlp16"},
-                                                     {LidarModel::kHdl32, "hdl32"},
-                                                     {LidarModel::kOs1_64, "os1_64"},
-                                                     {LidarModel::kUniform, "uniform"}};
+enum class LidarModel { kHdl64, kVlp16, kHdl32, kVlp32c, kOs1_64, kUniform };
+constexpr EnumName<LidarModel> kLidarModelNames[] = {
+    {LidarModel::kHdl64, "hdl64"},   {LidarModel::kVlp16, "vlp16"},
+    {LidarModel::kHdl32, "hdl32"},   {LidarModel::kVlp32c, "vlp32c"},
+    {LidarModel::kOs1_64, "os1_64"}, {LidarModel::kUniform, "uniform"}};
 constexpr std::span<const EnumName<LidarModel>> enumNames(LidarModel) {
   return kLidarModelNames;
 }
@@ -97,6 +96,8 @@ std::string_view presetName(LidarModel m) {
       return "vlp16";
     case LidarModel::kHdl32:
       return "hdl32";
+    case LidarModel::kVlp32c:
+      return "vlp32c";
     case LidarModel::kOs1_64:
       return "os1_64";
     case LidarModel::kHdl64:
@@ -146,8 +147,9 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                           "Pose of the sensor's axes (x forward, y left, z up: KITTI's velodyne "
                           "frame); the default is the cab roof"}));
     b.choice("model", &C::model,
-             "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E or Ouster OS1-64 from their "
-             "calibration tables (resources/lidars.json), or uniform (the fields under uniform)");
+             "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E, VLP-32C or Ouster OS1-64 from "
+             "their calibration tables (resources/lidars.json), or uniform (the fields under "
+             "uniform)");
     b.number("rotation_hz", &C::rotation_hz, units::si("Hz"),
              "Spin rate; one revolution must fit in period_ns")
         .range(1, 40);
@@ -159,8 +161,8 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.number("range_min_m", &C::range_min_m, kM, "Shortest range; 0: the device's").range(0, 100);
     b.number("range_max_m", &C::range_max_m, kM, "Longest range; 0: the device's").range(0, 2000);
     b.number("range_sigma_m", &C::range_sigma_m, kM,
-             "Gaussian range noise, 1 sigma; -1: the device's datasheet value (VLP-16 0.03 m, "
-             "HDL-32E and HDL-64E 0.02 m, OS1-64 0.015 m; 0.02 m for uniform)",
+             "Gaussian range noise, 1 sigma; -1: the device's datasheet value (VLP-16 and VLP-32C "
+             "0.03 m, HDL-32E and HDL-64E 0.02 m, OS1-64 0.015 m; 0.02 m for uniform)",
              scenario::Sentinel{-1.0, -1.0})
         .range(-1, 1);
     b.number("range_sigma_per_m", &C::range_sigma_per_m, units::si("m/m"),
