@@ -277,6 +277,63 @@ TEST(Scanner, NoReturnBeyondRangeOrPastTheMaximumIncidenceAngle) {
   }
 }
 
+TEST(Scanner, ASurfaceNearerThanTheMinimumRangeBlocksItsBeams) {
+  // A post ahead, before a wall 10 m ahead (its edges well away from any beam); the minimum range 2
+  // m. At 1 m the post's beams return nothing (a real receiver is blind that near, and the post is
+  // opaque); the others return the wall. At 3 m the post is seen. Each beam's outcome is worked out
+  // here from the geometry. The post's edges lie 0.5 mrad inside the beams at ±16.5°: with
+  // divergence (footprint radius 1.5 mrad) those two pulses straddle the edge, and with the post in
+  // the blind zone they return the wall from the part of their footprint that passes it.
+  const Eigen::Vector3d O(2.0e5, 1.0e5, 0.0);
+  const double edge = 16.5 * kDeg + 0.0005, radius = 0.0015;
+  for (const int sub_rays : {1, 16})
+    for (const double post : {1.0, 3.0}) {
+      SCOPED_TRACE(::testing::Message() << sub_rays << " sub-rays, post at " << post << " m");
+      lidar::LidarParams p = uniformParams(1, 720);
+      p.pattern = lidar::uniformPattern(1, 0.0, 0.0, 720, 10.0);
+      p.pattern.range_min_m = 2.0;
+      p.sub_rays = sub_rays;
+      p.divergence_rad = 2.0 * radius;
+      const lidar::Scanner scanner(p);
+      const auto tile =
+          makeTile(O, {square({post, 0, 0}, {-1, 0, 0}, post * std::tan(edge), scene::cls::kPole),
+                       square({10, 0, 0}, {-1, 0, 0}, 15.0)});
+      lidar::RayWorld world;
+      const auto frame = scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(1, "x"), 0);
+      std::size_t wall = 0, posts = 0;
+      for (int c = 0; c < 720; ++c) {
+        const Eigen::Vector3d& d = scanner.direction(c, 0);
+        if (d.x() <= 0.0)
+          continue;
+        const double a = std::atan(std::abs(d.y() / d.x()));
+        posts += a <= edge;
+        wall += a > edge && a <= std::atan(1.5);
+      }
+      ASSERT_GT(posts, 60u);
+      std::size_t seen_posts = 0, seen_wall = 0;
+      for (const auto& pt : frame.points) {
+        EXPECT_GE(pt.range_m, 2.0f);
+        const double a = std::atan2(std::abs(pt.xyz.y()), pt.xyz.x());
+        if (pt.cls == scene::cls::kPole) {
+          ++seen_posts;
+          EXPECT_NEAR(pt.xyz.x(), post, 1e-3);
+        } else {
+          ++seen_wall;
+          // With divergence the echo's range is its footprint's mean, placed on the beam's axis.
+          EXPECT_NEAR(pt.xyz.x(), 10.0, sub_rays > 1 ? 10.0 * std::tan(a) * radius : 1e-3);
+          EXPECT_GT(a, edge - radius) << "the wall through the post";
+        }
+      }
+      if (post < 2.0) {
+        EXPECT_EQ(seen_posts, 0u);
+        EXPECT_EQ(seen_wall, wall + (sub_rays > 1 ? 2 : 0));
+      } else {
+        EXPECT_EQ(seen_posts + seen_wall, posts + wall) << "one return a pulse";
+        EXPECT_GE(seen_posts, posts - (sub_rays > 1 ? 2 : 0));
+      }
+    }
+}
+
 TEST(Scanner, TheVehicleHidesWhatLiesBehindItAndReturnsNothingOfItself) {
   // A sensor 0.2 m above a train's roof, on the roof's front edge (the default train.body), over
   // flat ground, turned on its mount by 0° and 30°. The reference is written independently of

@@ -372,11 +372,13 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
   std::vector<Echo>& echoes = b.echoes;
   for (std::size_t c = begin; c < end; ++c) {
     const std::size_t base = (c - begin) * N;
-    // The pulse's sub-ray hits with their backscatter, grouped into echoes.
+    // The pulse's sub-ray hits with their backscatter, grouped into echoes; not those nearer
+    // than the minimum range (the receiver is blind there: what they hit blocks those sub-rays,
+    // and the rest of the footprint still returns what lies beyond).
     b.sub.clear();
     for (std::size_t k = 0; k < N; ++k) {
       const RayHit& h = hits[base + k];
-      if (!h.hit())
+      if (!h.hit() || h.range < range_min)
         continue;
       const double cos_theta =
           std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));

@@ -41,15 +41,16 @@ double Scanner::reach(const Eigen::Vector3d& direction) const {
     if (enter > leave)
       return limit;
   }
-  // A ray blocked nearer than the minimum range is cut to an empty segment (no return).
-  return std::max(enter, params_.pattern.range_min_m);
+  // Cut at the body (nothing of it returns; what lies before it still does, unless nearer than
+  // the minimum range).
+  return enter;
 }
 
 void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
                         const Eigen::Isometry3d* poses, const Eigen::Vector3d& origin,
                         Ray* out) const {
   const ScanPattern& p = params_.pattern;
-  const auto t_near = static_cast<float>(p.range_min_m), t_far = static_cast<float>(p.range_max_m);
+  const auto t_far = static_cast<float>(p.range_max_m);
   const std::size_t n = footprint_.size();  // several (one ray a pulse: fillPackets())
   for (std::size_t c = begin; c < end; ++c) {
     const Eigen::Isometry3d& T = poses[c];
@@ -66,7 +67,7 @@ void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
           angle == 0.0 ? d
                        : Eigen::Vector3d(std::cos(angle) * d +
                                          std::sin(angle) / angle * (f.x() * v + f.y() * u));
-      out[(c - begin) * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), t_near,
+      out[(c - begin) * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), 0.0f,
                                   params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
     }
   }
@@ -132,7 +133,6 @@ void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const f
   const float* __restrict az = &beams_[(2 * L + l) * P];
   const float* __restrict reach = &beams_[(3 * L + l) * P];
   const float* __restrict f = frames;
-  const auto t_near = static_cast<float>(params_.pattern.range_min_m);
   // Whole packets: begin is a multiple of 8 and the tables are padded to one. Eight lanes at a
   // time in Eigen's arrays (vector code).
   using F8 = Eigen::Array<float, 8, 1>;
@@ -148,7 +148,7 @@ void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const f
     into(q.dir_x) = field(kRot) * x + field(kRot + 1) * y + field(kRot + 2) * z;
     into(q.dir_y) = field(kRot + 3) * x + field(kRot + 4) * y + field(kRot + 5) * z;
     into(q.dir_z) = field(kRot + 6) * x + field(kRot + 7) * y + field(kRot + 8) * z;
-    into(q.t_near) = F8::Constant(t_near);
+    into(q.t_near) = F8::Zero();  // a surface nearer than the minimum range still blocks
     into(q.t_far) = lanes(reach + c0);
   }
 }
