@@ -80,6 +80,28 @@ void checkLidarsClearOfTheBody(const scenario::Json& resolved,
     checkLidarClearOfTheBody(list[i], train, fmt::format("{}.{}[{}]", kSensors, lidars.key, i),
                              problems);
 }
+
+// No LiDAR or camera at or below the top of rail: it would be in the track bed, and see the
+// world from under the ground.
+void checkPerceptionSensorsAboveTheRails(const scenario::Json& resolved,
+                                         std::vector<scenario::Problem>& problems) {
+  const TrainConfig train = trainSection().read(resolved);
+  for (const SensorKind& kind : sensorKinds()) {
+    if (!kind.frame_synchronous)
+      continue;
+    const scenario::Json& list = resolved.at(kSensors).at(kind.key);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const double height = readMount(list[i]).position_m.z() + train.reference_point.z();
+      if (height <= 0.0)
+        problems.push_back(
+            {mountPath(fmt::format("{}.{}[{}]", kSensors, kind.key, i)),
+             fmt::format("the sensor would be {:.2f} m above the top of rail (z_m plus "
+                         "train.reference_point.z_m): in the track bed or under it; mount it above "
+                         "the rails",
+                         height)});
+    }
+  }
+}
 }  // namespace
 
 std::span<const SensorKind> sensorKinds() {
@@ -145,6 +167,7 @@ void addSensorsSection(scenario::Schema& schema) {
   schema.addCheck(checkSensorNames);
   schema.addCheck(checkFrameSynchronous);
   schema.addCheck(checkLidarsClearOfTheBody);
+  schema.addCheck(checkPerceptionSensorsAboveTheRails);
   schema.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
     for (const SensorKind& kind : sensorKinds()) {
       const scenario::Json& list = resolved.at(kSensors).at(kind.key);
