@@ -158,8 +158,13 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
               "HDL-64E at 10 Hz), 2048 for uniform")
         .range(0, 65535);
     b.object("uniform", &C::uniform, uniform, "The uniform pattern (model \"uniform\")");
-    b.number("range_min_m", &C::range_min_m, kM, "Shortest range; 0: the device's").range(0, 100);
-    b.number("range_max_m", &C::range_max_m, kM, "Longest range; 0: the device's").range(0, 2000);
+    b.number("range_min_m", &C::range_min_m, kM,
+             "Shortest range (a surface nearer still blocks the beam, and returns nothing); 0: "
+             "the device's (0.9 m for uniform)")
+        .range(0, 100);
+    b.number("range_max_m", &C::range_max_m, kM,
+             "Longest range; 0: the device's (120 m for uniform)")
+        .range(0, 2000);
     b.number("range_sigma_m", &C::range_sigma_m, kM,
              "Gaussian range noise, 1 sigma; -1: the device's datasheet value (VLP-16 and VLP-32C "
              "0.03 m, HDL-32E and HDL-64E 0.02 m, OS1-64 0.015 m; 0.02 m for uniform)",
@@ -317,6 +322,26 @@ lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
   return p;
 }
 
+// Settings that are valid but do not do what they seem to: said once, when the run starts.
+void warnAboutWastedSettings(const LidarConfig& c, const std::string& path) {
+  if (c.sub_rays > 1 && c.divergence_rad == 0.0)
+    logWarn(
+        fmt::format("{}: sub_rays is {} but beam_divergence_mrad is 0: every sub-ray is the "
+                    "beam's axis, {} times the rays for the points one ray gives",
+                    path, c.sub_rays, c.sub_rays));
+  if (c.model == LidarModel::kUniform && c.uniform.channels == 1)
+    logWarn(
+        fmt::format("{}: uniform.channels is 1: its one laser is at fov_up_deg ({} deg) and "
+                    "fov_down_deg is not used",
+                    path, c.uniform.fov_up_rad / kRadPerDeg));
+  if (const double device = devicePattern(c).range_max_m;
+      c.model != LidarModel::kUniform && c.range_max_m > device)
+    logWarn(
+        fmt::format("{}: range_max_m {} m is beyond the {}'s {} m (its datasheet's range): "
+                    "returns that far are more than the device gives",
+                    path, c.range_max_m, presetName(c.model), device));
+}
+
 // The sensor's pose over one scan: exact at knots kKnotNs apart, between them cubic Hermite in
 // position (with the velocity) and slerp in attitude. A train's motion over 1 ms is smooth to
 // far below a micrometre this way, and a 2083-column scan costs ~100 trajectory evaluations
@@ -415,6 +440,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
                       "so every pulse gives one point, as strongest would; set sub_rays (16 "
                       "or more) and beam_divergence_mrad for second echoes",
                       setup.path));
+    warnAboutWastedSettings(c, setup.path);
   }
 
   std::string name() const override { return name_; }
