@@ -1,6 +1,7 @@
-// The LiDAR's scanner against analytic scenes built here: the presets against their datasheet
-// tables, noise, intensity, range and incidence limits, the vehicle's body, motion distortion,
-// ring order, thread independence and beam divergence (Embree's side: lidar_ray_scene_test.cpp).
+// The LiDAR's scanner against analytic scenes built here: noise, intensity, range and incidence
+// limits, the blind zone, the vehicle's body, motion distortion, ring order and thread
+// independence (the presets: lidar_scan_pattern_test.cpp; beam divergence:
+// lidar_divergence_test.cpp; Embree's side: lidar_ray_scene_test.cpp).
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
@@ -9,6 +10,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "lidar_test_poses.hpp"
 #include "support/scene_shapes.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
@@ -23,108 +25,11 @@ namespace {
 
 using lidar::Ray;
 using lidar::RayHit;
+using test::fixedPose;
 using test::makeTile;
 using test::square;
 
-// Transcribed from sensors-reference.md 1.1, 1.2, 1.4 (S3 'xiesc') and 1.5, in laser id order.
-const std::vector<double> kVlp16Elevation = {-15.0, 1.0, -13.0, 3.0,  -11.0, 5.0,  -9.0, 7.0,
-                                             -7.0,  9.0, -5.0,  11.0, -3.0,  13.0, -1.0, 15.0};
-const std::vector<double> kHdl32Elevation = {
-    -30.67, -9.33,  -29.33, -8.0,   -28.0,  -6.67, -26.67, -5.33,  -25.33, -4.0,   -24.0,
-    -2.67,  -22.67, -1.33,  -21.33, 0.0,    -20.0, 1.33,   -18.67, 2.67,   -17.33, 4.0,
-    -16.0,  5.33,   -14.67, 6.67,   -13.33, 8.0,   -12.0,  9.33,   -10.67, 10.67};
-const std::vector<double> kHdl64Elevation = {
-    -7.23,   -6.849,  0.204,   0.591,   -6.56,   -6.19,   -8.563,  -8.219,  -5.889,  -5.483,
-    -7.943,  -7.552,  -3.119,  -2.792,  -5.135,  -4.809,  -2.488,  -2.091,  -4.53,   -4.157,
-    -1.81,   -1.459,  -3.819,  -3.469,  0.895,   1.293,   -1.143,  -0.756,  1.562,   1.96,
-    -0.452,  -0.089,  -22.358, -21.976, -11.295, -10.754, -21.491, -21.064, -24.555, -24.147,
-    -20.429, -19.892, -23.549, -22.966, -16.274, -15.906, -19.247, -18.923, -15.385, -14.927,
-    -18.429, -17.964, -14.291, -13.806, -17.368, -16.801, -10.176, -9.744,  -13.163, -12.83,
-    -9.3,    -8.775,  -12.294, -11.913};
-const std::vector<double> kHdl64AzimuthCorrection = {
-    -4.382, -2.253, 3.441,  5.683,  -0.055, 2.191,  -0.876, 1.39,   4.214, 6.485, 3.412,
-    5.676,  -4.34,  -2.123, -5.133, -2.907, -0.107, 2.147,  -0.871, 1.371, 4.162, 6.385,
-    3.405,  5.613,  -4.388, -2.172, -5.184, -2.94,  -0.11,  2.109,  -0.89, 1.334, -7.326,
-    -3.812, 5.073,  8.335,  -0.291, 3.11,   -1.613, 1.818,  6.538,  9.944, 5.48,  8.903,
-    -7.112, -3.675, -8.521, -4.989, -0.39,  3.004,  -1.626, 1.824,  6.277, 9.67,  5.178,
-    8.521,  -6.933, -3.685, -8.3,   -4.884, -0.342, 2.899,  -1.572, 1.664};
-const std::vector<double> kOs1Altitude = {
-    16.611,  16.084,  15.557,  15.029,  14.502,  13.975,  13.447, 12.92,   12.393,  11.865,
-    11.338,  10.811,  10.283,  9.756,   9.229,   8.701,   8.174,  7.646,   7.119,   6.592,
-    6.064,   5.537,   5.01,    4.482,   3.955,   3.428,   2.9,    2.373,   1.846,   1.318,
-    0.791,   0.264,   -0.264,  -0.791,  -1.318,  -1.846,  -2.373, -2.9,    -3.428,  -3.955,
-    -4.482,  -5.01,   -5.537,  -6.064,  -6.592,  -7.119,  -7.646, -8.174,  -8.701,  -9.229,
-    -9.756,  -10.283, -10.811, -11.338, -11.865, -12.393, -12.92, -13.447, -13.975, -14.502,
-    -15.029, -15.557, -16.084, -16.611};
-const std::vector<double> kOs1BeamAzimuth = {
-    3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055,
-    -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,
-    -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,
-    1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164,
-    3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055,
-    -3.164, 3.164,  1.055,  -1.055, -3.164, 3.164,  1.055,  -1.055, -3.164};
-
-// sensors-reference.md 1.3 (the VeloView calibration's angles). Its azimuths are printed the
-// other way round from the calibration's rot_correction (laser 0: +0.0244 rad), which is what
-// the driver adds and what the preset holds.
-const std::vector<double> kVlp32cElevation = {
-    -25.0,  -1.0,   -1.667, -15.639, -11.31, 0.0,    -0.667, -8.843, -7.254, 0.333,  -0.333,
-    -6.148, -5.333, 1.333,  0.667,   -4.0,   -4.667, 1.667,  1.0,    -3.667, -3.333, 3.333,
-    2.333,  -2.667, -3.0,   7.0,     4.667,  -2.333, -2.0,   15.0,   10.333, -1.333};
-const std::vector<double> kVlp32cAzimuthAsPrinted = {
-    -1.4, 4.2, -1.4, 1.4, -1.4, 1.4, -4.2, 1.4, -1.4, 4.2, -1.4, 1.4, -4.2, 1.4, -4.2, 1.4,
-    -1.4, 4.2, -1.4, 4.2, -4.2, 1.4, -1.4, 1.4, -1.4, 1.4, -1.4, 4.2, -4.2, 1.4, -1.4, 1.4};
-
 constexpr double kDeg = std::numbers::pi / 180.0;
-
-TEST(LidarPresets, ReproduceTheirDatasheetTables) {
-  struct Case {
-    const char* name;
-    const std::vector<double>* elevation;
-    const std::vector<double>* azimuth;
-    double azimuth_sign;
-    int columns_at_10_hz;
-  };
-  const std::vector<double> zeros16(16, 0.0), zeros32(32, 0.0);
-  const Case cases[] = {{"vlp16", &kVlp16Elevation, &zeros16, 1.0, 1808},
-                        {"hdl32", &kHdl32Elevation, &zeros32, 1.0, 2170},
-                        {"hdl64", &kHdl64Elevation, &kHdl64AzimuthCorrection, 1.0, 2083},
-                        {"os1_64", &kOs1Altitude, &kOs1BeamAzimuth, -1.0, 1024},
-                        {"vlp32c", &kVlp32cElevation, &kVlp32cAzimuthAsPrinted, -1.0, 1808}};
-  for (const Case& c : cases) {
-    SCOPED_TRACE(c.name);
-    const lidar::ScanPattern p = lidar::preset(c.name, 10.0);
-    ASSERT_EQ(p.lasers.size(), c.elevation->size());
-    EXPECT_EQ(p.columns, c.columns_at_10_hz);
-    for (std::size_t l = 0; l < p.lasers.size(); ++l) {
-      EXPECT_EQ(p.lasers[l].elevation_deg, (*c.elevation)[l]);
-      EXPECT_EQ(p.lasers[l].azimuth_offset_deg, c.azimuth_sign * (*c.azimuth)[l]);
-      // Ring 0 is the highest laser; rings follow elevation.
-      for (std::size_t m = 0; m < p.lasers.size(); ++m) {
-        if ((*c.elevation)[m] > (*c.elevation)[l]) {
-          EXPECT_LT(p.lasers[m].ring, p.lasers[l].ring);
-        }
-      }
-    }
-    // Column azimuths: 180° at column 0, falling by 360°/W per column (a clockwise head), each
-    // laser turned by its offset and by the head's turn during its firing delay.
-    for (int col : {0, 1, p.columns / 3, p.columns - 1})
-      for (std::size_t l = 0; l < p.lasers.size(); ++l)
-        EXPECT_NEAR(p.azimuthDeg(col, static_cast<int>(l)),
-                    180.0 - 360.0 * col / p.columns - 3600.0 * p.lasers[l].time_offset_s +
-                        c.azimuth_sign * (*c.azimuth)[l],
-                    1e-9);
-  }
-  // The VLP-16 fires its lasers 2.304 µs apart (manual §9.4).
-  const lidar::ScanPattern v = lidar::preset("vlp16");
-  for (std::size_t l = 0; l < 16; ++l)
-    EXPECT_NEAR(v.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l), 1e-12);
-  // The VLP-32C fires its lasers in pairs, 2.304 µs apart (the driver's 32C timing table).
-  const lidar::ScanPattern u = lidar::preset("vlp32c");
-  for (std::size_t l = 0; l < 32; ++l)
-    EXPECT_NEAR(u.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l / 2), 1e-12);
-  EXPECT_THROW(lidar::preset("hdl65"), ConfigError);
-}
 
 // A closed room of planes around the sensor: every ray of a uniform pattern hits.
 std::shared_ptr<const scene::Tile> room(const Eigen::Vector3d& O, double half,
@@ -147,14 +52,6 @@ lidar::LidarParams uniformParams(int channels, int columns) {
   p.range_sigma_m = 0.0;
   p.motion_distortion = false;
   return p;
-}
-
-lidar::PoseAt fixedPose(const Eigen::Vector3d& at) {
-  return [at](double) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = at;
-    return T;
-  };
 }
 
 TEST(Scanner, RangeNoiseHasTheConfiguredSigma) {
@@ -527,179 +424,6 @@ TEST(Scanner, PointsComeRingByRingCounterClockwiseFromTheForwardAxis) {
   EXPECT_EQ(rings, 8);
   // Ring 0 is the highest beam.
   EXPECT_GT(frame.points.front().xyz.z(), frame.points.back().xyz.z());
-}
-
-// Beam divergence: a 12 mm wire 30 m ahead, swept by 1201 pulses whose axes pass it from
-// 131 mm above to 131 mm below (0.22 mm apart), each pulse 64 sub-rays over a 3 mrad cone (a
-// footprint of 45 mm radius there).
-struct WireSweep {
-  static constexpr double kRange = 30.0, kRadius = 0.006, kDivergence = 0.003, kWallBehind = 60.0;
-  static constexpr int kChannels = 1201;
-  static constexpr double kHalfFovDeg = 0.25;
-
-  Eigen::Vector3d O{2.0e5, -3.0e5, 40.0};
-  std::shared_ptr<const scene::Tile> tile;
-
-  explicit WireSweep(bool wall) {
-    scene::Wire wire;
-    wire.radius_m = static_cast<float>(kRadius);
-    wire.instance = 5;
-    wire.points = {Eigen::Vector3f(static_cast<float>(kRange), -4.0f, 0.0f),
-                   Eigen::Vector3f(static_cast<float>(kRange), 4.0f, 0.0f)};
-    std::vector<scene::Mesh> meshes;
-    if (wall)  // a dark wall 60 m behind the wire
-      meshes.push_back(square({kRange + kWallBehind, 0, 0}, {-1, 0, 0}, 15.0, scene::cls::kBuilding,
-                              scene::mat::kPaintedMetal));
-    tile = makeTile(O, std::move(meshes), {wire});
-  }
-
-  // Column 1 of a 2-column uniform pattern looks along +x.
-  lidar::LidarParams params(int sub_rays, lidar::LidarParams::Returns returns) const {
-    lidar::LidarParams p;
-    p.pattern = lidar::uniformPattern(kChannels, kHalfFovDeg, -kHalfFovDeg, 2, 10.0);
-    p.pattern.range_min_m = 0.5;
-    p.pattern.range_max_m = 200.0;
-    p.range_sigma_m = 0.0;
-    p.motion_distortion = false;
-    p.sub_rays = sub_rays;
-    p.divergence_rad = kDivergence;
-    p.returns = returns;
-    return p;
-  }
-
-  lidar::LidarFrame scan(const lidar::LidarParams& p) const {
-    lidar::RayWorld world;
-    const lidar::Scanner scanner(p);
-    return scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(1, "wire"), 0);
-  }
-
-  // The beam axes' spacing where they pass the wire.
-  static double step() { return kRange * 2.0 * std::tan(kHalfFovDeg * kDeg) / (kChannels - 1); }
-};
-
-TEST(Divergence, AThinWireIsHitAtTheRateItsFootprintCoveragePredicts) {
-  const WireSweep sweep(false);
-  const double footprint = WireSweep::kRange * std::tan(WireSweep::kDivergence / 2);
-  double previous_rate = 0.0;
-  for (const int n : {16, 64, 256, 1024}) {
-    const auto frame = sweep.scan(sweep.params(n, lidar::LidarParams::Returns::kStrongest));
-    int hits = 0;
-    double covered = 0.0;
-    ASSERT_EQ(frame.coverage.size(), frame.points.size());
-    for (std::size_t i = 0; i < frame.points.size(); ++i) {
-      const auto& pt = frame.points[i];
-      if (pt.xyz.x() < 0)
-        continue;  // column 0 looks backwards at nothing
-      ASSERT_EQ(pt.cls, scene::cls::kWire);
-      ASSERT_EQ(frame.instance(pt), 5u);
-      EXPECT_NEAR(pt.range_m, WireSweep::kRange, 2 * WireSweep::kRadius);
-      EXPECT_GT(frame.coverage[i], 0.0f);
-      EXPECT_LE(frame.coverage[i], 1.0f);
-      ++hits;
-      covered += frame.coverage[i];
-    }
-    // A pulse sees the wire while its footprint overlaps it: axes within footprint + radius.
-    const double rate = hits * WireSweep::step();
-    const double predicted = 2.0 * (footprint + WireSweep::kRadius);
-    // Few sub-rays leave the footprint's rim thinly sampled, so the rate converges from below
-    // as they grow (measured 0.905, 0.943, 0.986, 0.995 for 16, 64, 256, 1024): the benchmark's
-    // sub-rays → hit rate → time trade.
-    EXPECT_LE(rate / predicted, 1.0 + 1e-9) << n;
-    EXPECT_GT(rate / predicted, previous_rate) << n;
-    if (n >= 256) {
-      EXPECT_NEAR(rate / predicted, 1.0, 0.03) << n << " sub-rays: " << hits << " pulses";
-    }
-    previous_rate = rate / predicted;
-    // The share of each pulse on the wire, summed over the sweep, is the wire's width whatever
-    // the sampling: the footprint's whole area passes over the wire once.
-    EXPECT_NEAR(covered * WireSweep::step() / (2.0 * WireSweep::kRadius), 1.0, 0.01)
-        << n << " sub-rays";
-  }
-  // Without divergence the same sweep sees the wire only where the axis itself crosses it.
-  const auto single = sweep.scan(sweep.params(1, lidar::LidarParams::Returns::kStrongest));
-  int axis_hits = 0;
-  for (const auto& pt : single.points)
-    axis_hits += pt.xyz.x() > 0;
-  EXPECT_NEAR(axis_hits * WireSweep::step() / (2.0 * WireSweep::kRadius), 1.0, 0.05);
-}
-
-// A flat ground at a grazing angle stretches each pulse's echo over metres of range (here up to
-// 30 m: 5 mrad beams 1° to 5° below the horizon, 2 m above the ground), far more than the echo
-// separation: it is one surface, so one echo, never a second one "behind" it; its range lies
-// within the footprint's nearest and farthest ground.
-TEST(Divergence, AFlatGroundAtAGrazingAngleIsOneEchoNotTwo) {
-  const Eigen::Vector3d O(-4.0e5, 7.0e5, 12.0);
-  constexpr double kHeight = 2.0, kDivergence = 0.005, kTop = -1.0, kBottom = -5.0;
-  const auto tile = makeTile(
-      O, {square({0, 0, -kHeight}, {0, 0, 1}, 400.0, scene::cls::kTerrain, scene::mat::kGrass)});
-  lidar::LidarParams p;
-  p.pattern = lidar::uniformPattern(33, kTop, kBottom, 64, 10.0);
-  p.pattern.range_min_m = 0.5;
-  p.pattern.range_max_m = 300.0;
-  p.range_sigma_m = 0.0;
-  p.motion_distortion = false;
-  p.sub_rays = 64;
-  p.divergence_rad = kDivergence;
-  p.returns = lidar::LidarParams::Returns::kDual;
-  lidar::RayWorld world;
-  const lidar::Scanner scanner(p);
-  const auto frame = scanner.scan(world.scene({tile}), fixedPose(O), RandomStream(3, "ground"), 0);
-  ASSERT_EQ(frame.points.size(), static_cast<std::size_t>(33 * 64)) << "one point a pulse";
-  for (const lidar::LidarPoint& pt : frame.points) {
-    ASSERT_EQ(pt.return_index, 0);
-    // The point lies on its beam's axis, so its elevation is the axis's.
-    const double elevation = std::asin(static_cast<double>(pt.xyz.z()) / pt.range_m);
-    const double nearest = kHeight / std::sin(-elevation + 0.5 * kDivergence);
-    const double farthest = kHeight / std::sin(-elevation - 0.5 * kDivergence);
-    EXPECT_GE(pt.range_m, nearest * (1.0 - 1e-5));
-    EXPECT_LE(pt.range_m, farthest * (1.0 + 1e-5));
-  }
-}
-
-TEST(Divergence, DualReturnsReportTheWireAndTheWallBehindIt) {
-  const WireSweep sweep(true);
-  using Returns = lidar::LidarParams::Returns;
-  const auto dual = sweep.scan(sweep.params(64, Returns::kDual));
-  const auto last = sweep.scan(sweep.params(64, Returns::kLast));
-  const auto strongest = sweep.scan(sweep.params(64, Returns::kStrongest));
-  // The points ahead (column 0 looks backwards at nothing), each with its share of its pulse.
-  struct Ahead : lidar::LidarPoint {
-    float coverage;
-  };
-  const auto ahead = [](const lidar::LidarFrame& f) {
-    std::vector<Ahead> out;
-    for (std::size_t i = 0; i < f.points.size(); ++i)
-      if (f.points[i].xyz.x() > 0)
-        out.push_back({f.points[i], f.coverage[i]});
-    return out;
-  };
-  const auto d = ahead(dual), l = ahead(last), s = ahead(strongest);
-  ASSERT_EQ(l.size(), static_cast<std::size_t>(WireSweep::kChannels)) << "every pulse";
-  ASSERT_EQ(s.size(), static_cast<std::size_t>(WireSweep::kChannels));
-  int second = 0;
-  for (const auto& pt : l) {
-    EXPECT_EQ(pt.cls, scene::cls::kBuilding) << "the last echo is the wall";
-    EXPECT_NEAR(pt.range_m, WireSweep::kRange + WireSweep::kWallBehind, 0.01);
-  }
-  for (const auto& pt : d) {
-    EXPECT_LE(pt.return_index, 1);
-    if (pt.return_index == 1) {
-      ++second;
-      EXPECT_EQ(pt.cls, scene::cls::kBuilding);
-    }
-    if (pt.cls == scene::cls::kWire) {
-      EXPECT_EQ(pt.return_index, 0) << "the wire is never the last echo";
-      EXPECT_LT(pt.coverage, 1.0f);
-    }
-  }
-  // Every pulse reports one point, and a second exactly where the wire is the strongest echo
-  // and the wall still returns behind it.
-  int wire_strongest = 0;
-  for (const auto& pt : s)
-    wire_strongest += pt.cls == scene::cls::kWire;
-  EXPECT_GT(wire_strongest, 0);
-  EXPECT_EQ(static_cast<int>(d.size()), WireSweep::kChannels + second);
-  EXPECT_EQ(second, wire_strongest);
 }
 
 }  // namespace
