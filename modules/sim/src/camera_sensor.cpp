@@ -77,6 +77,15 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           "rectified K [I | t]: project with it whole; readers that take K from its left 3 x 3 "
           "(pykitti) get K R",
           setup.path, index_ + 2));
+    // The ground exists within terrain.tile_margin_m of a track: a camera that draws farther
+    // can see where it ends (and what lies beyond it comes out as sky, below the horizon).
+    if (const double margin = terrainSection().read(setup.context.scenario.json()).tile_margin_m;
+        c.far_m > margin)
+      logWarn(fmt::format(
+          "{}: draw_distance_m {} m reaches past the terrain, which ends terrain.tile_margin_m "
+          "{} m from the tracks: the ground's edge can be in view, and the pixels beyond it are "
+          "labelled sky; raise terrain.tile_margin_m to {} m",
+          setup.path, c.far_m, margin, c.far_m));
     // The train's own body (train.body) is in the picture of a camera outside it (one looking
     // back along the roof, or down at it), as the box that stops the LiDARs' rays: unlabelled,
     // no instance. A camera inside the box is behind the windscreen and sees out.

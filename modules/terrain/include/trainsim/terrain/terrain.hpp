@@ -20,7 +20,7 @@ namespace trainsim::terrain {
 struct TerrainParams {
   double spacing_m = 1.0;        ///< between height-map vertices
   int tile_vertices = 1009;      ///< per side of a tile (the paper's 1009 × 1009)
-  double tile_margin_m = 250.0;  ///< tiles within this plan distance of a track exist
+  double tile_margin_m = 400.0;  ///< tiles within this plan distance of a track exist
   double d_near_m = 3.5;         ///< within this of a track the ground is at its formation
   /// The same in stations (room for platforms): a station's track counts as
   /// d_near_station_m − d_near_m nearer, so the ground leaves the formation smoothly past the
