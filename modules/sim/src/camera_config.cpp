@@ -146,6 +146,12 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
       if (c.fx == 0.0 && c.fy > 0.0)
         out.push_back({at(c.fy), "needs " + at.key(c.fx) + ": with fx 0, " + at.key(c.hfov_rad) +
                                      " sets both (square pixels)"});
+      // Pixels at most 4 times as wide as tall or as tall as wide (square pixels have fy = fx,
+      // anamorphic lenses reach 2): beyond that the numbers are a typing slip, not a camera.
+      if (c.fx > 0.0 && c.fy > 0.0 && (c.fy > 4.0 * c.fx || c.fx > 4.0 * c.fy))
+        out.push_back({at(c.fy), fmt::format("is {:.3g} times fx ({:.4g} px): fy / fx must lie "
+                                             "within 1/4 ... 4 (1 for square pixels)",
+                                             c.fy / c.fx, c.fx)});
       if (c.width <= 0 || c.height <= 0)
         return;
       // The principal point within the image, as the lower bound of cx and cy has it.
