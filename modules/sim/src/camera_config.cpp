@@ -81,14 +81,14 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
               "Write depth_N/*.png: uint16 metres * 256 along the optical axis, 0 for nothing "
               "within depth_max_m (KITTI's depth convention)");
     b.boolean("depth_float", &C::depth_float,
-              "Also write depth_N/*.pfm: float32 metres along the optical axis, 0 for nothing "
-              "drawn (not clipped at depth_max_m; Portable Float Map, which OpenCV's imread "
-              "reads)");
+              "Write depth_N/*.pfm, with or without depth: float32 metres along the optical "
+              "axis, 0 for nothing drawn (not clipped at depth_max_m; Portable Float Map, which "
+              "OpenCV's imread reads)");
     b.boolean("semantic", &C::semantic, "Write semantic_N/*.png: uint8 class id per pixel");
     b.boolean("semantic_preview", &C::semantic_preview,
-              "Also write semantic_rgb_N/*.png: the semantic image in the classes' colours "
-              "(the dataset's classes.yaml color_map, from resources/classes.json), to look "
-              "at");
+              "Write semantic_rgb_N/*.png, with or without semantic: the semantic image in the "
+              "classes' colours (the dataset's classes.yaml color_map, from "
+              "resources/classes.json), to look at");
     b.boolean("instance", &C::instance,
               "Write instance_N/*.png: uint16 instance id per pixel, the id the LiDAR labels use "
               "(instances.csv), 0 for stuff");
