@@ -129,9 +129,18 @@ void runPlan(const PlanArgs& args) {
   catchInterrupts();
   applyLogLevel(args.log_level);
   const scenario::Scenario scenario = sim::loadScenario(args.scenario);
+  if (args.scene && args.scene_to_m <= args.scene_from_m)
+    throw ConfigError(fmt::format("--scene-to: {} m must lie beyond --scene-from ({} m)",
+                                  args.scene_to_m, args.scene_from_m));
   io::checkOutputFolder(args.out, {args.force, false});  // before the plan, not after it
   const CancelScope cancel(&g_cancel);
   const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
+  // A window past the route's end would write no tile of it (one ending past it is cut there).
+  const auto& blocks = plan->route().route.blocks;
+  const double route_end = blocks.empty() ? 0.0 : blocks.back().chainage_end_m;
+  if (args.scene && args.scene_from_m >= route_end)
+    throw ConfigError(fmt::format("--scene-from: {} m lies at or beyond the route's end ({:.0f} m)",
+                                  args.scene_from_m, route_end));
   sim::writePlanFolder(*plan, scenario, args.out, args.force);
   logInfo(
       fmt::format("wrote {0}/scenario.json, {0}/railroad.json, {0}/trajectory.csv and "
@@ -304,15 +313,20 @@ void addCommands(CLI::App& app) {
   plan_cmd->add_option("--out,-o", plan.out, "Output folder")->required();
   plan_cmd->add_flag("--force", plan.force,
                      "Write into a non-empty --out (removes only TrainSim's own entries)");
-  plan_cmd->add_flag("--scene", plan.scene,
-                     "Also write the scene: terrain tiles (16-bit PNG + JSON), objects.csv and "
-                     "scene.vtm for ParaView");
+  CLI::Option* scene_flag =
+      plan_cmd->add_flag("--scene", plan.scene,
+                         "Also write the scene: terrain tiles (16-bit PNG + JSON), objects.csv and "
+                         "scene.vtm for ParaView");
   plan_cmd
       ->add_option("--scene-from", plan.scene_from_m,
-                   "Main chainage (m) where scene.vtm's window starts")
-      ->check(CLI::Range(0.0, 1e7));
-  plan_cmd->add_option("--scene-to", plan.scene_to_m, "Main chainage (m) where it ends")
-      ->check(CLI::Range(0.0, 1e7));
+                   "Main chainage (m) where scene.vtm's window starts (with --scene)")
+      ->check(CLI::Range(0.0, 1e7))
+      ->needs(scene_flag);
+  plan_cmd
+      ->add_option("--scene-to", plan.scene_to_m,
+                   "Main chainage (m) where it ends, cut at the route's end (with --scene)")
+      ->check(CLI::Range(0.0, 1e7))
+      ->needs(scene_flag);
   addLogLevel(plan_cmd, plan.log_level);
   plan_cmd->callback([] { runPlan(plan); });
 
@@ -377,7 +391,7 @@ void addCommands(CLI::App& app) {
 
   // schema
   app.add_subcommand("schema", "Print the parameter table (Markdown, as in docs/SCENARIO.md)")
-      ->callback([] { std::cout << sim::scenarioSchema().markdown(); });
+      ->callback([] { std::cout << sim::scenarioSchema().markdown(sim::defaultScenarioText()); });
 }
 
 }  // namespace trainsim::cli

@@ -54,4 +54,15 @@ expect_contains "$WORK/err" "missing.csv" "message names the missing file"
 printf '{"route": {"source": "waypoints"}}' >"$WORK/nofile.json"
 expect_exit 2 "waypoints without a file" -- "$TRAINSIM" validate "$WORK/nofile.json"
 expect_contains "$WORK/err" "route.waypoints_file" "validator names route.waypoints_file"
+# A scene window that is empty, past the route's end (6000 m) or without --scene is a usage
+# error naming the option; nothing is written.
+expect_exit 2 "scene window ending before it starts" -- \
+  "$TRAINSIM" plan --out "$WORK/w1" --scene --scene-from 500 --scene-to 100
+expect_contains "$WORK/err" "--scene-to" "message names --scene-to"
+expect_exit 2 "scene window past the route's end" -- \
+  "$TRAINSIM" plan --out "$WORK/w2" --scene --scene-from 6000 --scene-to 7000
+expect_contains "$WORK/err" "--scene-from: 6000 m lies at or beyond the route's end" "message names --scene-from"
+expect_exit 2 "--scene-from without --scene" -- "$TRAINSIM" plan --out "$WORK/w3" --scene-from 5
+[ ! -e "$WORK/w1" ] && [ ! -e "$WORK/w2" ] && [ ! -e "$WORK/w3" ] &&
+  pass "nothing written for a bad scene window" || fail "files written for a bad scene window"
 finish

@@ -34,7 +34,8 @@ const scenario::Binding<MountParams>& mountBinding() {
 scenario::Binding<SensorBasics> sensorBasics(const BasicsSpec& spec) {
   scenario::Binding<SensorBasics> b;
   b.string(kName, &SensorBasics::name,
-           fmt::format("Sensor name, unique across all sensors ([a-z][a-z0-9_]{{0,63}}): "
+           fmt::format("Sensor name, unique across all sensors, not frames or instances "
+                       "([a-z][a-z0-9_]{{0,63}}): "
                        "files {}. Unnamed items take the default name, numbered by position after "
                        "the first (_1, _2, …)",
                        spec.files))

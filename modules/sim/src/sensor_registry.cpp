@@ -11,6 +11,7 @@
 #include "lidar_sensor.hpp"
 #include "positioning_sensors.hpp"
 #include "trainsim/sim/config.hpp"
+#include "trainsim/sim/frame_clock.hpp"
 #include "trainsim/sim/instance_table.hpp"
 #include "trainsim/sim/schema.hpp"
 #include "trainsim/sim/sensor_params.hpp"
@@ -181,6 +182,9 @@ void checkSensorNames(const scenario::Json& resolved, std::vector<scenario::Prob
   std::map<std::string, std::string> names, files;  // name or file -> JSON path of its sensor
   for (const std::string& reserved : io::DatasetLayout::sequenceFiles())
     files[reserved] = "the dataset";
+  // The manifest's entries of the dataset's own writers, beside the sensors'.
+  names[FrameClock::kKind] = "the dataset's frame clock (times.txt and poses.txt)";
+  names["instances"] = "the dataset's instance table (instances.csv)";
   for (const SensorKind& kind : sensorKinds()) {
     const scenario::Json& list = resolved.at(kSensors).at(kind.key);
     for (std::size_t i = 0; i < list.size(); ++i) {

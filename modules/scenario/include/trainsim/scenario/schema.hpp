@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "trainsim/scenario/param.hpp"
@@ -45,8 +46,10 @@ class Schema {
   Json defaults() const;
 
   /// The parameter table as Markdown: one row per leaf parameter with its JSON path, type,
-  /// unit, default, allowed range and description (the content of docs/SCENARIO.md).
-  std::string markdown() const;
+  /// unit, default, allowed range and description (the content of docs/SCENARIO.md). With
+  /// `built_in`, the text of the scenario that runs when none is given, it is shown too, as what
+  /// sets some keys otherwise than their defaults.
+  std::string markdown(std::string_view built_in = {}) const;
 
  private:
   Param root_ = object("", "TrainSim scenario", {});
