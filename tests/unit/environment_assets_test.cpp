@@ -74,15 +74,17 @@ TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;
   std::vector<track::Polyline> lines;
-  for (int t = 0; t < 2; ++t)
-    lines.push_back(track::samplePolyline(w.railway().main(), w.railway().layout().tracks[t]));
+  for (const track::LayoutTrack& t : w.railway().layout().tracks)
+    lines.push_back(track::samplePolyline(w.railway().main(), t));
   int spans = 0;
+  std::map<int, int> spans_of;  // by track
   for (const auto& tile : allTiles())
     for (const auto& wire : tile->wires) {
       if (((wire.instance >> 36) & 0xFF) != 4)
         continue;  // contact wires
       ++spans;
       const int track_id = static_cast<int>((wire.instance >> 44) & 0xFFF);
+      ++spans_of[track_id];
       for (int s = 0; s <= 8; ++s) {
         const Eigen::Vector3d p =
             tile->origin +
@@ -111,6 +113,17 @@ TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
       }
     }
   EXPECT_GT(spans, 150);
+  // The auxiliary tracks too are electrified, over their parallel part (at least 300 m, so five
+  // spans and more of 60 m), from the main track's supports that lie along it.
+  for (const track::LayoutTrack& t : w.railway().layout().tracks)
+    if (t.kind == track::TrackKind::kAuxiliary) {
+      EXPECT_GE(spans_of[t.id], 4) << "track " << t.id;
+      EXPECT_GE(w.env().supports(t.id).size(), 5u) << "track " << t.id;
+      for (const environment::CatenarySupport& s : w.env().supports(t.id))
+        EXPECT_TRUE(
+            std::ranges::any_of(w.env().supports(0), [&](const auto& m) { return m.x_m == s.x_m; }))
+            << "track " << t.id << " support at " << s.x_m << " m has no mast";
+    }
   // Continuous from span to span over the whole route, tile borders included: each span starts
   // where the one before it ends.
   std::map<std::pair<int, std::int64_t>, std::pair<Eigen::Vector3d, Eigen::Vector3d>> ends;
@@ -416,7 +429,8 @@ TEST(Assets, SignalsShowOneLitAspectThatTheTrainsOwnTrackNeverSetsAtStop) {
 TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot) {
   // trackOf: a rail, a mast, a wire or a signal is its layout track's (a mast or a signal stands
   // nearer to it than to the other of the main and double track; beyond the outermost track,
-  // so an auxiliary track can lie between); platforms, tunnels, bridges and fences have none.
+  // so an auxiliary track can lie between, whose arms hang from it); platforms, tunnels,
+  // bridges and fences have none.
   const World& w = defaultWorld();
   const auto segments = allSegments(w);
   const auto nearestTrack = [&](const Eigen::Vector3d& p) {
@@ -447,7 +461,21 @@ TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot)
       if (track) {
         ASSERT_EQ(*track, asset->track_id);
       }
-      if (asset->kind == 3 || asset->kind == 12) {
+      if (asset->kind == 3 && *track > 1) {
+        // An auxiliary track's arms (from the mast of the main or double track on its side)
+        // reach over it: their far end within the stagger of its centre, in plan.
+        double reach = std::numeric_limits<double>::infinity();
+        for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+          const Eigen::Vector2d p = o.worldVertex(v).head<2>();
+          for (const Segment& s : segments)
+            if (s.track == *track) {
+              const Eigen::Vector2d u = (s.b - s.a).head<2>();
+              const double t = std::clamp((p - s.a.head<2>()).dot(u) / u.squaredNorm(), 0.0, 1.0);
+              reach = std::min(reach, (p - s.a.head<2>() - t * u).norm());
+            }
+        }
+        EXPECT_LE(reach, w.env().params().assets.stagger_m + 0.05) << o.position.transpose();
+      } else if (asset->kind == 3 || asset->kind == 12) {
         // A mast's or a signal's foot (its vertices within 1 m of its lowest: the cantilevers
         // reach over the tracks) is nearest to its own track.
         double low = std::numeric_limits<double>::infinity();

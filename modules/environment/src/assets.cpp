@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "trainsim/core/random.hpp"
 
@@ -294,49 +297,21 @@ double maxCurvature(const track::Track& main, double x0, double x1) {
 
 }  // namespace
 
-std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
-                                          int track) {
-  const auto& main = railway.main();
-  std::vector<CatenarySupport> out;
-  // Supports every span along each block, spans shortened in curves so that the track's offset
-  // from a span's chord at mid-span, L²κ/8, stays within 1.5 × the stagger (with both ends on
-  // the outside the wire then stays within ±stagger).
-  const double a = A.stagger_m;
-  for (const track::Block& block : railway.route().blocks) {
-    const double c0 = block.chainage_begin_m, c1 = block.chainage_end_m;
-    const double kappa = maxCurvature(main, c0, c1);
-    double span = A.mast_span_m;
-    if (kappa > 0.0)
-      span = std::min(span, std::sqrt(8.0 * 1.5 * std::max(a, 0.05) / kappa));
-    const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
-    for (int k = 0; k < n; ++k)
-      out.push_back({c0 + (c1 - c0) * k / n, 0.0, block.type == track::BlockType::kTunnel,
-                     block.type == track::BlockType::kBridge});
-  }
-  if (railway.route().blocks.empty())
-    return out;
-  out.push_back(
-      {railway.route().blocks.back().chainage_end_m, 0.0, out.back().tunnel, out.back().bridge});
-  // Registrations: the wire between two supports is the chord, whose offset from the track
-  // centre is f(τ) = y_a + (y_b − y_a)τ + 4sτ(1 − τ) (s: the chord's offset at mid-span, + left).
-  // The staggers y_k are chosen among 21 levels in [−a, a] by dynamic programming (Viterbi):
-  // every span keeps |f| ≤ a everywhere, and among such choices the one closest to the zig-zag
-  // (+a, −a, +a, …) wins, which in curves puts both ends of a span on the outside.
+namespace {
+
+// The staggers of `out`'s supports, given each span's mid_offset (the offset of its chord's
+// middle from the track, + left): the wire between two supports is the chord, whose offset from
+// the track centre is f(τ) = y_a + (y_b − y_a)τ + 4sτ(1 − τ) (s: mid_offset). The staggers y_k
+// are chosen among 21 levels in [−a, a] by dynamic programming (Viterbi): every span keeps
+// |f| ≤ a everywhere, and among such choices the one closest to the zig-zag (+a, −a, +a, …)
+// wins, which in curves puts both ends of a span on the outside.
+std::vector<CatenarySupport> chooseStaggers(std::vector<CatenarySupport> out,
+                                            const std::vector<double>& mid_offset, double a) {
   const std::size_t n = out.size();
   if (n < 2 || a <= 0.0)
     return out;
   constexpr int kLevels = 21;
   const auto level = [a](int j) { return -a + 2.0 * a * j / (kLevels - 1); };
-  std::vector<double> mid_offset(n - 1);
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const track::TrackFrame fa = railway.frame(track, out[k].x_m);
-    const track::TrackFrame fb = railway.frame(track, out[k + 1].x_m);
-    const track::TrackFrame fm = railway.frame(track, 0.5 * (out[k].x_m + out[k + 1].x_m));
-    const Eigen::Vector3d pa = fa.position + A.contact_height_m * fa.up;
-    const Eigen::Vector3d pb = fb.position + A.contact_height_m * fb.up;
-    const Eigen::Vector3d pm = fm.position + A.contact_height_m * fm.up;
-    mid_offset[k] = (0.5 * (pa + pb) - pm).dot(fm.left);
-  }
   // The largest |f| over the span for staggers (ya, yb): at the ends or at the vertex.
   const auto worst = [](double ya, double yb, double s) {
     double m = std::max(std::abs(ya), std::abs(yb));
@@ -378,6 +353,76 @@ std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const
   return out;
 }
 
+}  // namespace
+
+std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
+                                          int track) {
+  const auto& main = railway.main();
+  std::vector<CatenarySupport> out;
+  // Supports every span along each block, spans shortened in curves so that the track's offset
+  // from a span's chord at mid-span, L²κ/8, stays within 1.5 × the stagger (with both ends on
+  // the outside the wire then stays within ±stagger).
+  const double a = A.stagger_m;
+  for (const track::Block& block : railway.route().blocks) {
+    const double c0 = block.chainage_begin_m, c1 = block.chainage_end_m;
+    const double kappa = maxCurvature(main, c0, c1);
+    double span = A.mast_span_m;
+    if (kappa > 0.0)
+      span = std::min(span, std::sqrt(8.0 * 1.5 * std::max(a, 0.05) / kappa));
+    const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
+    for (int k = 0; k < n; ++k)
+      out.push_back({c0 + (c1 - c0) * k / n, 0.0, block.type == track::BlockType::kTunnel,
+                     block.type == track::BlockType::kBridge});
+  }
+  if (railway.route().blocks.empty())
+    return out;
+  out.push_back(
+      {railway.route().blocks.back().chainage_end_m, 0.0, out.back().tunnel, out.back().bridge});
+  const track::LayoutTrack& laid = railway.layout().tracks.at(static_cast<std::size_t>(track));
+  const bool auxiliary = laid.kind == track::TrackKind::kAuxiliary;
+  if (auxiliary)
+    std::erase_if(out, [&](const CatenarySupport& s) {
+      return s.x_m <= laid.main_chainage_begin_m || s.x_m >= laid.main_chainage_end_m;
+    });
+  if (out.size() < 2)
+    return auxiliary ? std::vector<CatenarySupport>{} : out;
+  // The offset of each span's chord (between the contact points above the track centre) from
+  // the track at mid-span, + left.
+  std::vector<double> mid_offset(out.size() - 1);
+  for (std::size_t k = 0; k + 1 < out.size(); ++k) {
+    const track::TrackFrame fa = railway.frame(track, out[k].x_m);
+    const track::TrackFrame fb = railway.frame(track, out[k + 1].x_m);
+    const track::TrackFrame fm = railway.frame(track, 0.5 * (out[k].x_m + out[k + 1].x_m));
+    const Eigen::Vector3d pa = fa.position + A.contact_height_m * fa.up;
+    const Eigen::Vector3d pb = fb.position + A.contact_height_m * fb.up;
+    const Eigen::Vector3d pm = fm.position + A.contact_height_m * fm.up;
+    mid_offset[k] = (0.5 * (pa + pb) - pm).dot(fm.left);
+  }
+  if (auxiliary) {
+    // An auxiliary track's turnouts and curves (R 190 m and more) leave it metres from the chord
+    // of a main track's span: its wire hangs over the longest run of spans whose chord keeps
+    // within the stagger of the track (its parallel part, where trains stand).
+    const double fits = std::max(a, 0.05);
+    std::size_t best_begin = 0, best_end = 0;
+    for (std::size_t k = 0; k < mid_offset.size();) {
+      std::size_t e = k;
+      while (e < mid_offset.size() && std::abs(mid_offset[e]) <= fits)
+        ++e;
+      if (e - k > best_end - best_begin)
+        std::tie(best_begin, best_end) = std::pair(k, e);
+      k = std::max(e, k + 1);
+    }
+    if (best_end == best_begin)
+      return {};
+    const auto at = [](std::size_t i) { return static_cast<std::ptrdiff_t>(i); };
+    out =
+        std::vector<CatenarySupport>(out.begin() + at(best_begin), out.begin() + at(best_end) + 1);
+    mid_offset =
+        std::vector<double>(mid_offset.begin() + at(best_begin), mid_offset.begin() + at(best_end));
+  }
+  return chooseStaggers(std::move(out), mid_offset, a);
+}
+
 void addCatenary(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
   const terrain::Railway& railway = ctx.env.railway();
@@ -390,9 +435,18 @@ void addCatenary(TileContext& ctx) {
     x_lo = std::min(x_lo, s.x0);
     x_hi = std::max(x_hi, s.x1);
   }
-  for (const int track_id : {0, 1}) {
+  const bool has_double =
+      layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  for (const track::LayoutTrack& laid : layout.tracks) {
+    const int track_id = laid.id;
     const auto& supports = ctx.env.supports(track_id);
-    const int side = track_id == 0 ? 1 : -1;
+    // The main track's masts stand on its left, the double track's on its right, beyond the
+    // outermost track on that side. An auxiliary track's wires hang from the masts on its side
+    // (at the same chainages: its supports are the main track's): only one on the right of a
+    // single track has masts of its own.
+    const bool auxiliary = laid.kind == track::TrackKind::kAuxiliary;
+    const int side = track_id == 0 || (auxiliary && laid.offset_m > 0.0) ? 1 : -1;
+    const bool own_masts = !auxiliary || (side < 0 && !has_double);
     const auto first =
         std::lower_bound(supports.begin(), supports.end(), x_lo - A.mast_span_m,
                          [](const CatenarySupport& s, double x) { return s.x_m < x; });
@@ -424,9 +478,10 @@ void addCatenary(TileContext& ctx) {
             (sa.bridge ? -formation
                        : std::min(-formation, ctx.heightOver(ctx.ground(base), base))) -
             0.3;
-        scene::addOrientedBox(
-            *mast, ctx.local(base + 0.5 * (foot + top) * up), (0.15 * axes.col(0)).cast<float>(),
-            (0.15 * axes.col(1)).cast<float>(), (0.5 * (top - foot) * up).cast<float>());
+        if (own_masts)  // else only the arms, from the mast already standing there
+          scene::addOrientedBox(
+              *mast, ctx.local(base + 0.5 * (foot + top) * up), (0.15 * axes.col(0)).cast<float>(),
+              (0.15 * axes.col(1)).cast<float>(), (0.5 * (top - foot) * up).cast<float>());
         // Cantilever (messenger support) and registration arm out to the contact wire.
         const double support = wire + A.system_height_m;
         scene::addCylinder(*mast, ctx.local(base + support * up),

@@ -96,7 +96,9 @@ bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, d
 /// chainage x: left ≥ 0, right ≤ 0.
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x);
 
-/// The catenary supports of a track (0 main, 1 double) along the whole route.
+/// The catenary supports of a layout track along the whole route: every span of the main and
+/// double track; on an auxiliary track, the main track's supports that lie along it, strictly
+/// within its ends (a turnout's or a buffer stop's), so its wires end at its first and last.
 std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
                                           int track);
 

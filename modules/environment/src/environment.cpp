@@ -64,11 +64,11 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
   if (const track::EarthPlacement* earth = railway_->main().earth())
     anchor_.emplace(earth->anchor());
   const auto& tracks = railway_->layout().tracks;
-  if (params_.assets.catenary) {
-    supports_[0] = detail::planSupports(*railway_, params_.assets, 0);
-    if (tracks.size() > 1 && tracks[1].kind == track::TrackKind::kDouble)
-      supports_[1] = detail::planSupports(*railway_, params_.assets, 1);
-  }
+  supports_.resize(tracks.size());
+  if (params_.assets.catenary)
+    for (const track::LayoutTrack& t : tracks)
+      supports_[static_cast<std::size_t>(t.id)] =
+          detail::planSupports(*railway_, params_.assets, t.id);
 }
 
 std::string_view signalAspectName(SignalAspect aspect) {

@@ -117,7 +117,10 @@ const scenario::Section<environment::AssetParams>& assetsSection() {
     b.number("ballast_slope", &A::ballast_slope, units::kNone,
              "Ballast slope, horizontal per vertical")
         .range(0.5, 4);
-    b.boolean("catenary", &A::catenary, "Masts and wires along the main and double track");
+    b.boolean(
+        "catenary", &A::catenary,
+        "Masts and wires along the main and double track, and wires over the auxiliary tracks' "
+        "parallel parts (hung from the same masts)");
     b.number("mast_span_m", &A::mast_span_m, kM, "Longest span between masts").range(10, 100);
     b.number("mast_offset_m", &A::mast_offset_m, kM, "Mast from the outermost track centre")
         .range(2.5, 10);

@@ -136,8 +136,9 @@ class Environment {
   scene::MaterialId ballastMaterial() const { return ballast_material_; }
   scene::MaterialId groundMaterial() const { return ground_material_; }
   std::uint64_t seed() const { return seed_; }
-  /// The catenary supports of track 0 (main) or 1 (double), in chainage order (empty without a
-  /// catenary): O(route / span) numbers, planned once.
+  /// The catenary supports of a layout track, in main chainage order (empty without a
+  /// catenary): O(route / span) numbers, planned once. An auxiliary track's are the main
+  /// track's that lie along it (its wires hang from the same masts).
   const std::vector<CatenarySupport>& supports(int track) const { return supports_.at(track); }
   /// The shared signal (post and head) showing `aspect`: its lamp lit (an emitting material),
   /// the other two lenses dark.
@@ -162,7 +163,7 @@ class Environment {
   scene::MaterialId ballast_material_, ground_material_;
   std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
   std::array<std::shared_ptr<const scene::Mesh>, 3> signals_;  // by SignalAspect
-  std::array<std::vector<CatenarySupport>, 2> supports_;
+  std::vector<std::vector<CatenarySupport>> supports_;         // by layout track
   std::optional<GeodeticAnchor> anchor_;  // the Earth the track was laid on, if it was
 };
 
