@@ -164,17 +164,20 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
   // 10 Hz × 2048) a train's motion is a straight line and a turn of a few 1e-5 rad, so the
   // columns' poses are those of the trajectory to far below a micrometre, without a slerp and
   // a rotation matrix per column. The anchors are fixed columns, so the result does not depend
-  // on how the columns are split into tasks.
+  // on how the columns are split into tasks. The last group's far anchor is the revolution's end
+  // (`pose` need not know the poses beyond it: the run's does not).
   const double period = params_.pattern.columnPeriod();
-  int anchor = -1;
+  const int columns = params_.pattern.columns;
+  int anchor = -1, last = -1;
   Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), z = a;
   Eigen::Quaterniond qa = Eigen::Quaterniond::Identity(), qz = qa;
   for (int c = begin; c < end; ++c) {
     const int first = c / kPoseStep * kPoseStep;
     if (first != anchor) {
       anchor = first;
+      last = std::min(first + kPoseStep, columns);
       a = pose(first * period);
-      z = pose((first + kPoseStep) * period);
+      z = pose(last * period);
       qa = Eigen::Quaterniond(a.linear());
       qz = Eigen::Quaterniond(z.linear());
       if (qa.dot(qz) < 0.0)
@@ -185,7 +188,7 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
       *out++ = a;
       continue;
     }
-    const double u = static_cast<double>(k) / kPoseStep;
+    const double u = static_cast<double>(k) / (last - first);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() = (1.0 - u) * a.translation() + u * z.translation();
     T.linear() = Eigen::Quaterniond((1.0 - u) * qa.coeffs() + u * qz.coeffs())
