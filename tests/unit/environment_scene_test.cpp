@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numbers>
 #include <numeric>
+#include <set>
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -115,16 +116,33 @@ TEST(Scene, EveryPartHasAValidClassAndMaterialAndThingsHaveInstances) {
 }
 
 TEST(Scene, AStreamHoldsAtMostItsCapacityAndAWindowOnlyNearTiles) {
+  // A window holds exactly the tiles whose square or content comes within its radius (a span
+  // whose first support lies in a tile beyond it can reach in), against every tile's bounds;
+  // the stream holds its capacity, or twice the tiles a window looks at (within the overhang).
   const World& w = defaultWorld();
-  auto stream = w.env().stream(9);  // what a 120 m window can touch: 3 × 3 tiles of 128 m
+  auto stream = w.env().stream(9);
+  const scene::TileGrid grid = w.env().grid();
+  const double overhang = w.env().overhang_m();
+  std::size_t looked_at = 0, reached_in = 0;
   const auto& main = w.railway().main();
   for (double x = 0.0; x < main.length(); x += 100.0) {
     const Eigen::Vector3d p = w.railway().frame(0, x).position;
+    const Eigen::Vector2d c = p.head<2>();
     const scene::SceneWindow win = stream->window(p, 120.0);
     EXPECT_FALSE(win.tiles.empty());
+    std::set<scene::TileIndex> in_window, expected;
     for (const auto& t : win.tiles)
-      EXPECT_LE(stream->grid().distance(t->index, p.head<2>()), 120.0);
-    EXPECT_LE(stream->cached(), 9u);
+      in_window.insert(t->index);
+    std::size_t candidates = 0;
+    for (const auto& t : allTiles()) {
+      candidates += grid.distance(t->index, c) <= 120.0 + overhang;
+      if (grid.distance(t->index, c) <= 120.0 || t->bounds.planDistance(c) <= 120.0)
+        expected.insert(t->index);
+      reached_in += grid.distance(t->index, c) > 120.0 && t->bounds.planDistance(c) <= 120.0;
+    }
+    EXPECT_EQ(in_window, expected) << "at " << x << " m";
+    looked_at = std::max(looked_at, candidates);
+    EXPECT_LE(stream->cached(), std::max<std::size_t>(9, 2 * looked_at));
     std::size_t near = 0;
     win.forEachObject(p, 120.0, [&](const scene::Object& o) {
       EXPECT_LE(o.bounds.planDistance(p.head<2>()), 120.0);
@@ -132,6 +150,7 @@ TEST(Scene, AStreamHoldsAtMostItsCapacityAndAWindowOnlyNearTiles) {
     });
     EXPECT_GT(near, 0u);
   }
+  EXPECT_GT(reached_in, 0u);      // there are such tiles
   EXPECT_GT(stream->made(), 30);  // tiles were dropped and made along the way
 }
 
@@ -148,9 +167,9 @@ TEST(Scene, ATilesLevelFrameIsTheEarthsLocalLevelAtItsOrigin) {
   for (double x = 0.0; x < main.length(); x += 250.0) {
     const track::EarthPlacement::Point e = main.earth()->at(main.horizontal(), main.vertical(), x);
     const Eigen::Vector3d p = w.railway().frame(0, x).position;
-    const scene::SceneWindow win = stream->window(p, 0.0);
-    ASSERT_EQ(win.tiles.size(), 1u) << x;
-    const Eigen::Matrix3d& level = win.tiles[0]->level;
+    const auto tile = stream->tile(w.env().grid().tileAt(p.x(), p.y()));
+    ASSERT_NE(tile, nullptr) << x;
+    const Eigen::Matrix3d& level = tile->level;
     EXPECT_LT((level.transpose() * level - Eigen::Matrix3d::Identity()).norm(), 1e-12);
     EXPECT_NEAR(level.determinant(), 1.0, 1e-12);
     EXPECT_LT(std::acos(std::min(1.0, level.col(2).dot(e.up))), 4e-5) << x;
@@ -246,6 +265,45 @@ TEST(Scene, ParaViewReadsTheExportedMultiblock) {
     EXPECT_LT(std::abs(p[0]), 1e4);  // relative to the origin, not world-sized
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(Scene, ATilesContentReachesAtMostTheOverhangBeyondIt) {
+  // Environment::overhang_m bounds how far an object or a wire reaches beyond its tile's square
+  // (a window looks that much farther for them): in the default world (128 m tiles), and with
+  // the longest spans and the farthest masts the schema allows.
+  const auto check = [](const World& w, const std::vector<std::shared_ptr<const scene::Tile>>& all,
+                        double at_least) {
+    const scene::TileGrid grid = w.env().grid();
+    const double overhang = w.env().overhang_m();
+    double worst = 0.0;
+    const auto beyond = [&](scene::TileIndex t, const scene::Box3d& b) {
+      const Eigen::Vector2d lo = grid.corner(t);
+      return std::max({lo.x() - b.min.x(), lo.y() - b.min.y(), b.max.x() - (lo.x() + grid.size_m),
+                       b.max.y() - (lo.y() + grid.size_m), 0.0});
+    };
+    for (const auto& tile : all) {
+      for (const auto& o : tile->objects)
+        worst = std::max(worst, beyond(tile->index, o.bounds));
+      for (const auto& wire : tile->wires) {
+        scene::Box3d b;
+        for (const auto& p : wire.points)
+          b.extend(tile->origin + p.cast<double>());
+        worst = std::max(worst, beyond(tile->index, b));
+      }
+      EXPECT_LE(beyond(tile->index, tile->bounds), overhang)
+          << tile->index.i << " " << tile->index.j;
+    }
+    EXPECT_LE(worst, overhang);
+    EXPECT_GE(worst, at_least);  // the spans do reach into the next tile
+  };
+  check(defaultWorld(), allTiles(), 50.0);
+  const World far = makeWorld(
+      {{"assets", {{"mast_span_m", 100.0}, {"mast_offset_m", 10.0}, {"fence_offset_m", 12.0}}},
+       {"route", {{"generator", {{"length_m", 2500.0}}}}}});
+  std::vector<std::shared_ptr<const scene::Tile>> tiles;
+  for (const auto& i : far.env().tiles())
+    tiles.push_back(far.env().tile(i));
+  check(far, tiles, 80.0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "trainsim/camera/camera_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace trainsim::camera {
@@ -20,6 +21,16 @@ Eigen::Matrix3d Intrinsics::matrix() const {
   Eigen::Matrix3d K;
   K << fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;
   return K;
+}
+
+double Intrinsics::widestSideways() const {
+  return std::max(std::abs(-0.5 - cx), std::abs(width - 0.5 - cx)) / fx;
+}
+
+double Intrinsics::farthestRay() const {
+  const double y = std::max(std::abs(-0.5 - cy), std::abs(height - 0.5 - cy)) / fy;
+  const double x = widestSideways();
+  return std::sqrt(1.0 + x * x + y * y);
 }
 
 Eigen::Matrix4d Intrinsics::glProjection(double n, double f) const {

@@ -55,6 +55,10 @@ std::string foldMessage(double worst) {
       worst);
 }
 
+constexpr std::string_view kPrefix = "camera: ";  // of ConfigError's messages here
+
+Intrinsics renderFor(const Intrinsics& output, const cv::Mat& xy);
+
 // Every output pixel's pinhole point, row by row; throws if the inversion fails anywhere.
 cv::Mat undistortedGrid(const Intrinsics& k, const Distortion& d) {
   cv::Mat pixels(k.width * k.height, 1, CV_64FC2);
@@ -82,12 +86,40 @@ std::string lensProblem(const Intrinsics& k, const Distortion& d) {
       rim.push_back(cv::Vec2d(u, v));
   double worst = 0.0;
   undistorted(rim, k, d, worst);
-  return worst < 1e-3 ? std::string() : foldMessage(worst);
+  if (!(worst < 1e-3))
+    return foldMessage(worst);
+  // The pinhole render it needs, from every pixel (as LensRemap makes it): generate refuses one
+  // too large, so validate does too.
+  try {
+    renderFor(k, undistortedGrid(k, d));
+  } catch (const ConfigError& e) {
+    const std::string_view why = e.what();
+    return std::string(why.starts_with(kPrefix) ? why.substr(kPrefix.size()) : why);
+  }
+  return {};
 }
 
 LensRemap::LensRemap(const Intrinsics& output, const Distortion& distortion)
     : output_(output), maps_(std::make_unique<Maps>()) {
   const cv::Mat xy = undistortedGrid(output, distortion);
+  render_ = renderFor(output, xy);
+  const auto at = [&](int u, int v) { return xy.at<cv::Vec2d>(v * output.width + u); };
+  maps_->x.create(output.height, output.width, CV_32FC1);
+  maps_->y.create(output.height, output.width, CV_32FC1);
+  for (int v = 0; v < output.height; ++v)
+    for (int u = 0; u < output.width; ++u) {
+      const cv::Vec2d p = at(u, v);
+      maps_->x.at<float>(v, u) = static_cast<float>(render_.fx * p[0] + render_.cx);
+      maps_->y.at<float>(v, u) = static_cast<float>(render_.fy * p[1] + render_.cy);
+    }
+}
+
+namespace {
+
+// The pinhole camera to render `output`'s rays with, from every output pixel's pinhole point
+// `xy` (undistortedGrid); throws if it folds or would be too large.
+Intrinsics renderFor(const Intrinsics& output, const cv::Mat& xy) {
+  Intrinsics render;
   const auto at = [&](int u, int v) { return xy.at<cv::Vec2d>(v * output.width + u); };
   // The render's focal lengths: at least one render pixel per output pixel everywhere (the
   // smallest step of the pinhole coordinates between neighbouring output pixels).
@@ -104,28 +136,26 @@ LensRemap::LensRemap(const Intrinsics& output, const Distortion& distortion)
         step_y = std::min(step_y, at(u, v + 1)[1] - p[1]);
     }
   if (!(step_x > 0.0 && step_y > 0.0))
-    throw ConfigError("camera: the lens distortion folds the image over itself");
-  render_.fx = 1.0 / step_x;
-  render_.fy = 1.0 / step_y;
+    throw ConfigError(std::string(kPrefix) + "the lens distortion folds the image over itself");
+  render.fx = 1.0 / step_x;
+  render.fy = 1.0 / step_y;
   // One pixel of margin around the rays' extent, so bilinear lookups stay inside.
-  render_.cx = 1.0 - x0 * render_.fx;
-  render_.cy = 1.0 - y0 * render_.fy;
-  render_.width = static_cast<int>(std::ceil((x1 - x0) * render_.fx)) + 3;
-  render_.height = static_cast<int>(std::ceil((y1 - y0) * render_.fy)) + 3;
-  if (render_.width > 8192 || render_.height > 8192)
+  render.cx = 1.0 - x0 * render.fx;
+  render.cy = 1.0 - y0 * render.fy;
+  // In double: a lens nearly folding asks for more pixels than an int holds.
+  const double width = std::ceil((x1 - x0) * render.fx) + 3.0;
+  const double height = std::ceil((y1 - y0) * render.fy) + 3.0;
+  if (!(width <= 8192.0 && height <= 8192.0))
     throw ConfigError(fmt::format(
-        "camera: the lens distortion needs a {} x {} pinhole render (at most 8192 x 8192): the "
+        "{}the lens distortion needs a {:.0f} x {:.0f} pinhole render (at most 8192 x 8192): the "
         "field of view is too wide for a pinhole",
-        render_.width, render_.height));
-  maps_->x.create(output.height, output.width, CV_32FC1);
-  maps_->y.create(output.height, output.width, CV_32FC1);
-  for (int v = 0; v < output.height; ++v)
-    for (int u = 0; u < output.width; ++u) {
-      const cv::Vec2d p = at(u, v);
-      maps_->x.at<float>(v, u) = static_cast<float>(render_.fx * p[0] + render_.cx);
-      maps_->y.at<float>(v, u) = static_cast<float>(render_.fy * p[1] + render_.cy);
-    }
+        kPrefix, width, height));
+  render.width = static_cast<int>(width);
+  render.height = static_cast<int>(height);
+  return render;
 }
+
+}  // namespace
 
 LensRemap::~LensRemap() = default;
 

@@ -173,9 +173,24 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,
   return tile;
 }
 
+double Environment::overhang_m() const {
+  constexpr double kStructures_m = 20.0;
+  if (!params_.assets.catenary)
+    return kStructures_m;
+  // A span's points lie within its length of its first support, its arms and mast within the
+  // widest spread of the tracks and the mast's offset beyond it.
+  double widest = 0.0;
+  for (const track::LayoutTrack& t : railway_->layout().tracks)
+    for (const track::OffsetPiece& piece : t.offset)
+      widest =
+          std::max({widest, std::abs(piece.offset(piece.x0)), std::abs(piece.offset(piece.x1))});
+  const AssetParams& A = params_.assets;
+  return std::max({kStructures_m, A.mast_span_m + 1.0, 2.0 * widest + A.mast_offset_m + 2.0});
+}
+
 std::unique_ptr<scene::SceneStream> Environment::stream(std::size_t capacity) const {
   return std::make_unique<scene::SceneStream>(
-      grid(), tiles(), [this](scene::TileIndex i) { return tile(i); }, capacity);
+      grid(), tiles(), [this](scene::TileIndex i) { return tile(i); }, capacity, overhang_m());
 }
 
 }  // namespace trainsim::environment

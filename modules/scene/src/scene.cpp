@@ -81,11 +81,12 @@ void SceneWindow::forEachObject(const Eigen::Vector3d& centre, double radius,
 }
 
 SceneStream::SceneStream(TileGrid grid, std::set<TileIndex> existing, TileFactory factory,
-                         std::size_t capacity)
+                         std::size_t capacity, double overhang_m)
     : grid_(grid),
       existing_(std::move(existing)),
       factory_(std::move(factory)),
-      capacity_(std::max<std::size_t>(capacity, 1)) {}
+      capacity_(std::max<std::size_t>(capacity, 1)),
+      overhang_m_(overhang_m) {}
 
 std::shared_ptr<const Tile> SceneStream::tile(TileIndex index) {
   if (!existing_.contains(index))
@@ -133,15 +134,25 @@ std::shared_ptr<const Tile> SceneStream::tile(TileIndex index) {
 SceneWindow SceneStream::window(const Eigen::Vector3d& centre, double radius) {
   SceneWindow window;
   const Eigen::Vector2d c = centre.head<2>();
-  const TileIndex lo = grid_.tileAt(c.x() - radius, c.y() - radius);
-  const TileIndex hi = grid_.tileAt(c.x() + radius, c.y() + radius);
+  const double reach = radius + overhang_m_;
+  const TileIndex lo = grid_.tileAt(c.x() - reach, c.y() - reach);
+  const TileIndex hi = grid_.tileAt(c.x() + reach, c.y() + reach);
+  std::vector<TileIndex> candidates;
   for (std::int32_t i = lo.i; i <= hi.i; ++i)
-    for (std::int32_t j = lo.j; j <= hi.j; ++j) {
-      const TileIndex t{i, j};
-      if (!existing_.contains(t) || grid_.distance(t, c) > radius)
-        continue;
-      window.tiles.push_back(tile(t));
-    }
+    for (std::int32_t j = lo.j; j <= hi.j; ++j)
+      if (const TileIndex t{i, j}; existing_.contains(t) && grid_.distance(t, c) <= reach)
+        candidates.push_back(t);
+  {
+    // Room for this window's tiles and the next one's, which mostly overlap: frames in flight
+    // would otherwise drop each other's tiles and make them again.
+    std::lock_guard lock(mutex_);
+    capacity_ = std::max(capacity_, 2 * candidates.size());
+  }
+  for (const TileIndex t : candidates) {
+    std::shared_ptr<const Tile> made = tile(t);
+    if (grid_.distance(t, c) <= radius || made->bounds.planDistance(c) <= radius)
+      window.tiles.push_back(std::move(made));
+  }
   return window;
 }
 

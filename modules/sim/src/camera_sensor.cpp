@@ -77,15 +77,20 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           "rectified K [I | t]: project with it whole; readers that take K from its left 3 x 3 "
           "(pykitti) get K R",
           setup.path, index_ + 2));
-    // The ground exists within terrain.tile_margin_m of a track: a camera that draws farther
-    // can see where it ends (and what lies beyond it comes out as sky, below the horizon).
+    // The ground exists within terrain.tile_margin_m of a track: a camera that sees farther
+    // from its axis (looking along the track) or from itself (looking across it) can see where
+    // it ends, and what lies beyond comes out as sky, below the horizon.
+    const camera::Intrinsics& render = renderer_.options().intrinsics;
+    reach_m_ = c.far_m * render.farthestRay();
+    const double sideways = c.far_m * std::max(1.0, render.widestSideways());
     if (const double margin = terrainSection().read(setup.context.scenario.json()).tile_margin_m;
-        c.far_m > margin)
+        sideways > margin)
       logWarn(fmt::format(
-          "{}: draw_distance_m {} m reaches past the terrain, which ends terrain.tile_margin_m "
-          "{} m from the tracks: the ground's edge can be in view, and the pixels beyond it are "
-          "labelled sky; raise terrain.tile_margin_m to {} m",
-          setup.path, c.far_m, margin, c.far_m));
+          "{}: at draw_distance_m {} m the picture reaches {:.0f} m from its axis, past the "
+          "terrain, which ends terrain.tile_margin_m {} m from the tracks: the ground's edge can "
+          "be in view, and the pixels beyond it are labelled sky; raise terrain.tile_margin_m to "
+          "{:.0f} m",
+          setup.path, c.far_m, sideways, margin, std::ceil(sideways)));
     // The train's own body (train.body) is in the picture of a camera outside it (one looking
     // back along the roof, or down at it), as the box that stops the LiDARs' rays: unlabelled,
     // no instance. A camera inside the box is behind the windscreen and sees out.
@@ -260,7 +265,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   CameraFrame read(std::int64_t k) const override {
     const Eigen::Isometry3d pose = trajectory_.sample(k).pose();
     const Eigen::Isometry3d T = pose * T_body_cam_;
-    scene::SceneWindow window = scene_->window(T.translation(), config_.far_m);
+    // The far plane is a depth: towards the picture's corners it lies farther than far_m.
+    scene::SceneWindow window = scene_->window(T.translation(), reach_m_);
     if (body_) {
       // One tile of its own, under an index no scene tile has.
       auto tile = std::make_shared<scene::Tile>();
@@ -401,6 +407,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   CameraConfig config_;
   RandomStream noise_;
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
+  double reach_m_ = 0.0;           // the farthest the render can see (its corners' far plane)
   std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_, tunnel_lighting_;
   double noon_sky_light_ = 1.0;           // skywardLight() under the noon preset

@@ -203,8 +203,14 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   if (hasSensors(scenario.json(), "cameras"))
     display = camera::XDisplay::ensure();
   std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
-  return runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
-                    [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });
+  GenerateReport report =
+      runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
+                 [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });
+  // A tile made more than once was dropped from the stream while the frames still needed it.
+  if (stream)
+    logDebug(fmt::format("scene: {} tiles made, of the {} along the route", stream->made(),
+                         environment->environment->tiles().size()));
+  return report;
 }
 
 }  // namespace trainsim::sim

@@ -20,6 +20,13 @@ struct Intrinsics {
   Eigen::Vector2d project(const Eigen::Vector3d& p_cam) const {
     return {fx * p_cam.x() / p_cam.z() + cx, fy * p_cam.y() / p_cam.z() + cy};
   }
+  /// How far a ray reaches for one metre of depth, at its longest: √(1 + x² + y²) at the
+  /// image's farthest corner (pixel edges, x = (u − cx) / fx, y likewise). Whatever lies within
+  /// a depth d of the camera lies within d times this of it.
+  double farthestRay() const;
+  /// The most a ray strays sideways for one metre of depth: |x| at the image's left or right
+  /// edge.
+  double widestSideways() const;
   /// The OpenGL projection (view → clip, OpenGL's eye axes: x right, y up, looking down −z)
   /// whose image is exactly this camera's at width × height pixels, with depth mapped from
   /// [near, far] to OpenGL's [−1, 1]: a point projects to the centre of pixel (u, v) as

@@ -129,6 +129,11 @@ class Environment {
   /// The same with the tile's terrain already made (its heights set the objects' feet).
   std::vector<PlacedObject> objects(scene::TileIndex index,
                                     const terrain::TerrainTile& heights) const;
+  /// How far (plan) a tile's content can reach beyond its square: a catenary span belongs to
+  /// the tile of its first support and reaches the next one (mast_span_m on) and its mast
+  /// (beyond the outermost track); a house, a platform or a bridge's piece the tile holding its
+  /// foot or its start (under 20 m: Scene.ATilesContentReachesAtMostTheOverhangBeyondIt).
+  double overhang_m() const;
   /// A stream of tiles over this environment, holding at most `capacity` tiles.
   std::unique_ptr<scene::SceneStream> stream(std::size_t capacity = 16) const;
 

@@ -91,15 +91,20 @@ struct SceneWindow {
 };
 
 /// The scene as it streams along the route: the set of tiles that exist (fixed by the plan),
-/// made on demand by the factory and dropped least-recently-used beyond `capacity`, so memory
-/// and the cost of a query do not grow with the route. Thread-safe; a tile is made once even if
-/// several threads ask for it at the same time.
+/// made on demand by the factory and dropped least-recently-used beyond `capacity` (or twice
+/// the tiles the largest window so far looked at, if more), so memory and the cost of a query
+/// do not grow with the route. Thread-safe; a tile is made once even if several threads ask for
+/// it at the same time.
 class SceneStream {
  public:
+  /// `overhang_m`: how far (plan) a tile's content can reach beyond its square (an object
+  /// belongs to one tile, and a catenary span or a house reaches into the next).
   SceneStream(TileGrid grid, std::set<TileIndex> existing, TileFactory factory,
-              std::size_t capacity = 16);
+              std::size_t capacity = 16, double overhang_m = 0.0);
 
-  /// Every existing tile whose square comes within `radius` (plan) of `centre`.
+  /// Every existing tile whose content (Tile::bounds) comes within `radius` (plan) of
+  /// `centre`: the tiles whose square does, and those within the overhang whose content
+  /// reaches in.
   SceneWindow window(const Eigen::Vector3d& centre, double radius);
   /// One tile (made if needed); nullptr if it does not exist.
   std::shared_ptr<const Tile> tile(TileIndex index);
@@ -120,6 +125,7 @@ class SceneStream {
   std::set<TileIndex> existing_;
   TileFactory factory_;
   std::size_t capacity_;
+  double overhang_m_;
   mutable std::mutex mutex_;
   std::map<TileIndex, Slot> cache_;
   std::list<TileIndex> lru_;  ///< most recent first
