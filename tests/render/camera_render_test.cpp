@@ -337,6 +337,54 @@ TEST(CameraRender, ImagesDoNotDependOnWhatWasDrawnBefore) {
   EXPECT_EQ(first.depth, fresh.depth);
 }
 
+TEST(CameraRender, TooManyThingsOnlyInOnePictureAreTooMany) {
+  // A picture may hold 65535 things. Two pictures of 35 000 each, one after the other, hold
+  // 70 000 between them: the second must not fail for the first's (which a renderer keeps for
+  // the renders to come), whatever came before it.
+  const Eigen::Vector3d O(0.0, 0.0, 0.0);
+  auto box = std::make_shared<scene::Mesh>();
+  box->prototype = true;
+  box->beginPart(scene::cls::kRock, scene::mat::kRock);
+  scene::addBox(*box, {-0.05f, -0.05f, 0.0f}, {0.05f, 0.05f, 0.1f});
+  const auto field = [&](int which) {
+    std::vector<scene::Object> objects;
+    for (int i = 0; i < 35000; ++i) {
+      // 100 rows 20-70 m ahead, 350 a row across the middle 80 % of the view (they overlap).
+      const double x = 20.0 + 0.5 * (i / 350);
+      const double y = (i % 350 / 350.0 - 0.5) * 0.8 * x * 150.0 / 300.0;
+      const Eigen::Vector3d foot = O + Eigen::Vector3d(x, y, 0.0);
+      objects.push_back(
+          scene::Object::place(box, foot, Eigen::Matrix3f::Identity(),
+                               scene::objectInstance(which, 0, static_cast<std::uint32_t>(i))));
+    }
+    auto tile = std::const_pointer_cast<scene::Tile>(makeTile(O, {}, {}, std::move(objects)));
+    tile->index = {which, 0};  // another tile's things, not a copy of the same tile's
+    return std::shared_ptr<const scene::Tile>(tile);
+  };
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  const camera::Renderer renderer(o);
+  const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.5));
+  const auto a = field(1), b = field(2);
+  const camera::CameraImages first = renderer.render({{a}}, T, {});
+  const camera::CameraImages second = renderer.render({{b}}, T, {});
+  // Each picture's pixels show its own field's things, a great many of them.
+  const auto shown = [](const camera::CameraImages& img, const scene::Tile& tile) {
+    std::set<scene::InstanceId> ids, own;
+    for (const scene::Object& object : tile.objects)
+      own.insert(object.instance);
+    for (const std::uint16_t v : img.object)
+      if (v != 0) {
+        EXPECT_TRUE(own.contains(img.instances.at(v)));
+        ids.insert(img.instances.at(v));
+      }
+    return ids.size();
+  };
+  EXPECT_GT(shown(first, *a), 1000u);
+  EXPECT_GT(shown(second, *b), 1000u);
+  EXPECT_EQ(first.semantic, second.semantic);  // the same field, other ids
+}
+
 TEST(CameraRender, ALitSignalLampShowsItsEmissionColourWhateverTheLightAndKeepsItsLabels) {
   // A signal head 15 m ahead facing the camera: a red lamp lit over a dark yellow and green
   // lens (discs as boxes 0.3 m across, so their centres are well inside many pixels).

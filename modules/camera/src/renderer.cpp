@@ -220,10 +220,11 @@ struct Renderer::Impl {
       gl->free_slots.pop_back();
       return s;
     }
-    if (gl->next_slot >= 0xFFFF)
+    if (gl->next_slot >= kSlots)
       throw RuntimeError("camera: more than 65535 objects in view at once");
     return gl->next_slot++;
   }
+  static constexpr std::uint32_t kSlots = 0xFFFF;
 
   // A mapper rebuilds its vertex and index buffers whenever the property of the actor it draws
   // is another one, or was modified (vtkOpenGLPolyDataMapper::GetNeedToRebuildBufferObjects):
@@ -241,6 +242,11 @@ struct Renderer::Impl {
   // taken) if there was none or it was made from an earlier copy of the tile.
   DrawnEntry& entry(std::pair<scene::TileIndex, std::uint32_t> key,
                     const std::shared_ptr<const scene::Tile>& tile) {
+    // Out of slots: what this render has not drawn (kept for the renders to come) gives its
+    // own back, so only more than 65535 things in one picture are too many, whatever the
+    // renders before it were (with several threads, their order varies).
+    if (gl->free_slots.empty() && gl->next_slot >= kSlots && !gl->drawn.contains(key))
+      forget(1);
     DrawnEntry& e = gl->drawn[key];
     if (e.tile && e.tile != tile)  // the tile was made again since
       drop(e);
@@ -305,14 +311,18 @@ struct Renderer::Impl {
     e = DrawnEntry{};
   }
 
-  void forget() {
+  // Drops the entries not drawn in the last `keep` renders (this one included), and with
+  // kKeepRenders the meshes too (an entry's mesh was used when it was).
+  void forget(std::uint64_t keep = kKeepRenders) {
     for (auto it = gl->drawn.begin(); it != gl->drawn.end();)
-      if (it->second.used + kKeepRenders <= gl->frame) {
+      if (it->second.used + keep <= gl->frame) {
         drop(it->second);
         it = gl->drawn.erase(it);
       } else {
         ++it;
       }
+    if (keep < kKeepRenders)
+      return;
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
         for (MeshLevel& m : it->second.levels)
