@@ -98,7 +98,8 @@ std::pair<double, double> outermostOffsets(const track::Layout& layout, double x
 
 /// The catenary supports of a layout track along the whole route: every span of the main and
 /// double track; on an auxiliary track, the main track's supports that lie along it, strictly
-/// within its ends (a turnout's or a buffer stop's), so its wires end at its first and last.
+/// within its ends, cut to the longest run of spans whose chord keeps within the stagger of it
+/// (its parallel part), so its wires end at the first and last of those.
 std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
                                           int track);
 
