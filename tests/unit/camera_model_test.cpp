@@ -1,6 +1,7 @@
 // The pinhole model's OpenGL projection against its own pixel projection, without rendering.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -55,6 +56,31 @@ TEST(CameraModel, AHorizontalFieldOfViewGivesSquarePixelsCentred) {
   EXPECT_NEAR(k.project({-1.0, 0.0, 1.0}).x(), -0.5, 1e-12);
   EXPECT_NEAR(k.project({1.0, 0.0, 1.0}).x(), 1241.5, 1e-12);
   EXPECT_NEAR(k.project({0.0, 0.0, 1.0}).y(), 187.0, 1e-12);
+}
+
+TEST(CameraModel, TheFarthestRayIsThatOfThePicturesFarthestCorner) {
+  // A camera's scene window reaches the far plane at the farthest corner: the longest ray a
+  // pixel's area holds for one metre of depth, against every pixel border, for an off-centre
+  // principal point and fx ≠ fy; and the most a ray strays sideways.
+  Intrinsics k;
+  k.width = 320;
+  k.height = 240;
+  k.fx = 300.0;
+  k.fy = 280.0;
+  k.cx = 150.3;
+  k.cy = 131.7;
+  double longest = 0.0, widest = 0.0;
+  for (int v = 0; v <= k.height; ++v)
+    for (int u = 0; u <= k.width; ++u) {
+      const double x = (u - 0.5 - k.cx) / k.fx, y = (v - 0.5 - k.cy) / k.fy;
+      longest = std::max(longest, std::sqrt(1.0 + x * x + y * y));
+      widest = std::max(widest, std::abs(x));
+    }
+  EXPECT_NEAR(k.farthestRay(), longest, 1e-12);
+  EXPECT_NEAR(k.widestSideways(), widest, 1e-12);
+  // The default camera (81.6 deg across, 1242 x 375): 1.35 times its draw distance.
+  const Intrinsics d = Intrinsics::fromHorizontalFov(1242, 375, 81.6 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(d.farthestRay(), 1.347, 1e-3);
 }
 
 }  // namespace
