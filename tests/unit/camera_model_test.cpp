@@ -62,13 +62,8 @@ TEST(CameraModel, TheFarthestRayIsThatOfThePicturesFarthestCorner) {
   // A camera's scene window reaches the far plane at the farthest corner: the longest ray a
   // pixel's area holds for one metre of depth, against every pixel border, for an off-centre
   // principal point and fx ≠ fy; and the most a ray strays sideways.
-  Intrinsics k;
-  k.width = 320;
-  k.height = 240;
-  k.fx = 300.0;
-  k.fy = 280.0;
-  k.cx = 150.3;
-  k.cy = 131.7;
+  const Intrinsics k{
+      .width = 320, .height = 240, .fx = 300.0, .fy = 280.0, .cx = 150.3, .cy = 131.7};
   double longest = 0.0, widest = 0.0;
   for (int v = 0; v <= k.height; ++v)
     for (int u = 0; u <= k.width; ++u) {
