@@ -2,6 +2,7 @@
 // azimuth offset, the columns a revolution holds, the firing times, and the rings' order.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "trainsim/core/error.hpp"
@@ -106,6 +107,46 @@ TEST(LidarPresets, ReproduceTheirDatasheetTables) {
   for (std::size_t l = 0; l < 32; ++l)
     EXPECT_NEAR(u.lasers[l].time_offset_s, 2.304e-6 * static_cast<double>(l / 2), 1e-12);
   EXPECT_THROW(lidar::preset("hdl65"), ConfigError);
+}
+
+TEST(LidarPresets, AnAzimuthWindowFiresTheRevolutionsColumnsWithinIt) {
+  // The HDL-64E at 10 Hz (2083 columns, 0.173 deg apart; none looks exactly forward) within
+  // windows of 120, 1 and 0.1 deg: its scan columns are exactly the revolution's whose azimuth
+  // 180 − 360 k / N lies within ±fov / 2, at their own azimuths and firing times.
+  const lidar::ScanPattern whole = lidar::preset("hdl64", 10.0);
+  ASSERT_EQ(whole.columns, 2083);
+  EXPECT_TRUE(whole.wholeRevolution());
+  for (const double fov : {120.0, 1.0, 0.1}) {
+    SCOPED_TRACE(fov);
+    const lidar::ScanPattern w = lidar::windowed(whole, fov);
+    EXPECT_EQ(w.revolutionColumns(), 2083);
+    std::vector<int> inside;
+    for (int k = 0; k < 2083; ++k)
+      if (std::abs(180.0 - 360.0 * k / 2083.0) <= 0.5 * fov)
+        inside.push_back(k);
+    ASSERT_EQ(w.columns, static_cast<int>(inside.size()));
+    if (inside.empty())
+      continue;
+    EXPECT_FALSE(w.wholeRevolution());
+    EXPECT_EQ(w.first_column, inside.front());
+    for (int c = 0; c < w.columns; ++c)
+      for (int l : {0, 31, 63}) {
+        EXPECT_EQ(w.azimuthDeg(c, l), whole.azimuthDeg(inside[static_cast<std::size_t>(c)], l));
+        EXPECT_EQ(w.firingTime(c, l), whole.firingTime(inside[static_cast<std::size_t>(c)], l));
+      }
+  }
+  EXPECT_EQ(lidar::windowed(whole, 120.0).columns, 694);  // 2083 / 3, rounded
+  EXPECT_EQ(lidar::windowed(whole, 0.1).columns, 0);
+  // A uniform 2048-column pattern has a column straight ahead (k = 1024): a 0.1 deg window
+  // holds it alone, at azimuth 0 and half a revolution's time.
+  const lidar::ScanPattern u =
+      lidar::windowed(lidar::uniformPattern(4, 2.0, -2.0, 2048, 10.0), 0.1);
+  ASSERT_EQ(u.columns, 1);
+  EXPECT_EQ(u.azimuthDeg(0, 0), 0.0);
+  EXPECT_EQ(u.firingTime(0, 0), 0.05);
+  const lidar::ScanPattern same = lidar::windowed(whole, 360.0);
+  EXPECT_EQ(same.columns, 2083);
+  EXPECT_EQ(same.first_column, 0);
 }
 
 }  // namespace

@@ -454,5 +454,55 @@ TEST(Scanner, PointsComeRingByRingCounterClockwiseFromTheForwardAxis) {
   EXPECT_GT(frame.points.front().xyz.z(), frame.points.back().xyz.z());
 }
 
+TEST(Scanner, AnAzimuthWindowScansWithinItAtItsFiringTimesFromItsRightEdgeToItsLeft) {
+  // A 90 deg window of a 720-column revolution on a sensor running at 30 m/s along x towards a
+  // wall 20 m ahead, with walls 15 m to either side: the window's columns fire from 3/8 to 5/8 of
+  // the revolution, so each point is cast from where the sensor is then; deskewed to the scan's
+  // start it lies on its wall, and as measured v·t short of it. Each ring runs unbroken from the
+  // window's right edge to its left (counter-clockwise from the rear).
+  const Eigen::Vector3d O(3.0e5, 0, 0);
+  const auto tile =
+      makeTile(O, {square({20.0, 0, 0}, {-1, 0, 0}, 60.0), square({0, 15.0, 0}, {0, -1, 0}, 60.0),
+                   square({0, -15.0, 0}, {0, 1, 0}, 60.0)});
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p = uniformParams(8, 720);
+  p.pattern = lidar::windowed(lidar::uniformPattern(8, 5.0, -5.0, 720, 10.0), 90.0);
+  p.motion_distortion = true;
+  ASSERT_EQ(p.pattern.columns, 181);  // k = 270 ... 450
+  const double v = 30.0, revolution = p.pattern.revolution();
+  const lidar::PoseAt moving = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = O + Eigen::Vector3d(v * std::clamp(t, 0.0, revolution), 0, 0);
+    return T;
+  };
+  const lidar::Scanner scanner(p);
+  const auto frame = scanner.scan(scene, moving, RandomStream(1, "x"), 0);
+  ASSERT_EQ(frame.points.size(), 8u * 181u);
+  double worst_wall = 0.0, worst_measured = 0.0, worst_azimuth = 0.0;
+  for (std::size_t i = 0; i < frame.points.size(); ++i) {
+    const auto& pt = frame.points[i];
+    EXPECT_EQ(pt.ring, i / 181);
+    const double t = scanner.time(pt);
+    ASSERT_GE(t, 0.375 * revolution - 1e-12);
+    ASSERT_LE(t, 0.625 * revolution + 1e-12);
+    const Eigen::Vector3f m = scanner.measured(pt);
+    const double azimuth = std::atan2(m.y(), m.x()) / kDeg;
+    worst_azimuth = std::max(worst_azimuth, std::abs(azimuth));
+    const double ahead = std::abs(pt.xyz.x() - 20.0), aside = std::abs(std::abs(pt.xyz.y()) - 15.0);
+    worst_wall = std::max(worst_wall, std::min(ahead, aside));
+    if (ahead < aside)  // on the wall ahead
+      worst_measured = std::max(worst_measured, std::abs(m.x() + v * t - 20.0));
+    if (i % 181 != 0) {  // azimuth rising along the ring, from −45 to +45 deg
+      const auto& prev = frame.points[i - 1];
+      EXPECT_GT(std::atan2(pt.xyz.y(), pt.xyz.x()), std::atan2(prev.xyz.y(), prev.xyz.x()));
+    }
+  }
+  EXPECT_NEAR(worst_azimuth, 45.0, 1e-5);  // float points
+  EXPECT_LT(worst_wall, 1e-3);
+  EXPECT_LT(worst_measured, 1e-3);
+  EXPECT_GT(worst_measured, 0.0);
+}
+
 }  // namespace
 }  // namespace trainsim

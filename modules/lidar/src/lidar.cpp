@@ -38,7 +38,7 @@ using detail::kNoReturn;
 using detail::kPoseStep;
 using detail::kShift;
 using detail::orderRing;
-using detail::pseudoAzimuth;
+using detail::ringKey;
 using detail::storePoint;
 using detail::SubHit;
 
@@ -209,10 +209,10 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
     throw Cancelled("run cancelled during a LiDAR scan");
   }
 
-  // KITTI order: ring by ring, each by the azimuth of its written coordinates (points whose
-  // float keys are equal, by slot: by column), by a sort of (key, slot) words that moves each
-  // point once; not by the column walk: deskewing moves near points by many columns (4 m at
-  // 10 m is 25°).
+  // KITTI order: ring by ring, each by the azimuth of its written coordinates counter-clockwise
+  // from the front (from the rear within an azimuth window: keySign()), points whose float keys
+  // are equal by slot (by column), by a sort of (key, slot) words that moves each point once;
+  // not by the column walk: deskewing moves near points by many columns (4 m at 10 m is 25°).
   std::vector<std::size_t> first(rings + 1, 0);
   for (std::size_t r = 0; r < rings; ++r)
     first[r + 1] = first[r] + std::accumulate(w.found.begin() + r * per_ring,
@@ -292,6 +292,7 @@ std::size_t Scanner::castPulses(const RayScene& scene, const RandomStream& rando
   setup.ay = &beams_[(L + l) * P];
   setup.az = &beams_[(2 * L + l) * P];
   setup.directions = params_.motion_compensated ? nullptr : &directions_[l * W];
+  setup.key_sign = keySign();
   setup.ring = static_cast<std::uint16_t>(ring);
   setup.returns = R;
   LidarPoint* points = w.points.data() + ring * W * R;
@@ -327,6 +328,7 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
   const IntensityScale scale = params_.scale;
   const Backscatter* backscatter = backscatter_.data();
   const auto ring_id = static_cast<std::uint16_t>(ring);
+  const float key_sign = keySign();
 
   b.rays.resize(columns * N);
   b.hits.resize(columns * N);
@@ -365,7 +367,7 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     // Ordered by the coordinates the dataset writes: as Scanner::written() gives them.
     const Eigen::Vector3f written =
         compensated ? xyz : (directions[c] * static_cast<double>(range_m)).cast<float>();
-    keys[slot] = pseudoAzimuth(written.x(), written.y());
+    keys[slot] = ringKey(written.x(), written.y(), key_sign);
     ++found;
   };
 

@@ -33,6 +33,14 @@ inline float pseudoAzimuth(float x, float y) {
   return (a < 0.0f ? a + 4.0f : a) + 0.0f;
 }
 
+/// A point's place in its ring: its pseudoAzimuth() from the front (`sign` 1, KITTI's order for a
+/// whole revolution) or from the rear (−1: a scan within an azimuth window centred forward then
+/// runs unbroken from the window's right edge to its left). Negating is exact: the keys of a
+/// whole revolution are the same bits either way this is written.
+inline float ringKey(float x, float y, float sign) {
+  return pseudoAzimuth(sign * x, sign * y);
+}
+
 /// Writes a point with two 16-byte stores rather than a store per field.
 inline void storePoint(LidarPoint& to, const Eigen::Vector3f& xyz, float intensity, float range_m,
                        std::uint32_t object, std::uint16_t column, std::uint16_t ring,
@@ -70,6 +78,7 @@ struct PacketSetup {
   /// The laser's directions by column, to key points by their coordinates as measured
   /// (LidarParams::motion_compensated off); null: keyed by the deskewed ones.
   const Eigen::Vector3d* directions = nullptr;
+  float key_sign = 1.0f;  // ringKey()'s: −1 keys from the rear
   std::uint16_t ring = 0;
   std::size_t returns = 1;  // slots a pulse has
 };

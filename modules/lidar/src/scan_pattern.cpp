@@ -45,7 +45,9 @@ const std::vector<ScanPattern>& presets() {
 
 double ScanPattern::azimuthDeg(int column, int laser) const {
   const Laser& l = lasers[static_cast<std::size_t>(laser)];
-  return 180.0 - 360.0 * (static_cast<double>(column) / columns + rotation_hz * l.time_offset_s) +
+  return 180.0 -
+         360.0 * (static_cast<double>(first_column + column) / revolutionColumns() +
+                  rotation_hz * l.time_offset_s) +
          l.azimuth_offset_deg;
 }
 
@@ -88,6 +90,21 @@ ScanPattern preset(std::string_view name, double rotation_hz, int columns) {
   }
   throw ConfigError(
       fmt::format("unknown LiDAR preset '{}' (known: {})", name, fmt::join(presetNames(), ", ")));
+}
+
+ScanPattern windowed(ScanPattern pattern, double fov_deg) {
+  if (fov_deg >= 360.0)
+    return pattern;
+  // Revolution column k looks at 180° − 360° k / N: within ±fov / 2 for
+  // N (180 − fov / 2) / 360 ≤ k ≤ N (180 + fov / 2) / 360.
+  const int n = pattern.revolutionColumns();
+  const double half = 0.5 * std::max(fov_deg, 0.0) / 360.0;
+  const auto first = static_cast<int>(std::ceil(n * (0.5 - half) - 1e-9));
+  const auto last = static_cast<int>(std::floor(n * (0.5 + half) + 1e-9));
+  pattern.revolution_columns = n;
+  pattern.first_column = first;
+  pattern.columns = std::max(0, last - first + 1);
+  return pattern;
 }
 
 ScanPattern uniformPattern(int channels, double fov_up_deg, double fov_down_deg, int columns,

@@ -164,10 +164,10 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
   // 10 Hz × 2048) a train's motion is a straight line and a turn of a few 1e-5 rad, so the
   // columns' poses are those of the trajectory to far below a micrometre, without a slerp and
   // a rotation matrix per column. The anchors are fixed columns, so the result does not depend
-  // on how the columns are split into tasks. The last group's far anchor is the revolution's end
+  // on how the columns are split into tasks. The last group's far anchor is the scan's end
   // (`pose` need not know the poses beyond it: the run's does not).
-  const double period = params_.pattern.columnPeriod();
-  const int columns = params_.pattern.columns;
+  const ScanPattern& pattern = params_.pattern;
+  const int columns = pattern.columns;
   int anchor = -1, last = -1;
   Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), z = a;
   Eigen::Quaterniond qa = Eigen::Quaterniond::Identity(), qz = qa;
@@ -176,8 +176,8 @@ void Scanner::columnPoses(const PoseAt& pose, const Eigen::Isometry3d& frame_pos
     if (first != anchor) {
       anchor = first;
       last = std::min(first + kPoseStep, columns);
-      a = pose(first * period);
-      z = pose(last * period);
+      a = pose(pattern.columnTime(first));
+      z = pose(pattern.columnTime(last));
       qa = Eigen::Quaterniond(a.linear());
       qz = Eigen::Quaterniond(z.linear());
       if (qa.dot(qz) < 0.0)

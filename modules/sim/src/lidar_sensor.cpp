@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cmath>
+#include <numbers>
 
 #include <Eigen/Geometry>
 
@@ -72,6 +73,7 @@ struct LidarConfig {
   LidarModel model = LidarModel::kHdl64;
   double rotation_hz = 10.0;
   int columns = 0;
+  double horizontal_fov_rad = 2.0 * std::numbers::pi;  // the azimuth window
   UniformConfig uniform;
   double range_min_m = 0.0, range_max_m = 0.0;  // 0: the device's
   double range_sigma_m = -1.0;                  // -1: the device's
@@ -110,11 +112,13 @@ std::string_view presetName(LidarModel m) {
 // The scan pattern `c` asks for, before the scenario's range limits.
 lidar::ScanPattern devicePattern(const LidarConfig& c) {
   constexpr int kUniformColumns = 2048;
-  return c.model == LidarModel::kUniform
-             ? lidar::uniformPattern(c.uniform.channels, c.uniform.fov_up_rad / kRadPerDeg,
-                                     c.uniform.fov_down_rad / kRadPerDeg,
-                                     c.columns > 0 ? c.columns : kUniformColumns, c.rotation_hz)
-             : lidar::preset(presetName(c.model), c.rotation_hz, c.columns);
+  return lidar::windowed(
+      c.model == LidarModel::kUniform
+          ? lidar::uniformPattern(c.uniform.channels, c.uniform.fov_up_rad / kRadPerDeg,
+                                  c.uniform.fov_down_rad / kRadPerDeg,
+                                  c.columns > 0 ? c.columns : kUniformColumns, c.rotation_hz)
+          : lidar::preset(presetName(c.model), c.rotation_hz, c.columns),
+      c.horizontal_fov_rad / kRadPerDeg);
 }
 
 const scenario::Binding<LidarConfig>& lidarBinding() {
@@ -157,6 +161,11 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
               "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
               "HDL-64E at 10 Hz), 2048 for uniform")
         .range(0, 65535);
+    b.number("horizontal_fov_deg", &C::horizontal_fov_rad, units::kDegree,
+             "Azimuth window centred forward: the head spins the whole revolution and fires only "
+             "the columns within it (a Velodyne's FOV setting, an Ouster's azimuth_window), "
+             "at their times in the revolution; 360: all")
+        .range(1, 360);
     b.object("uniform", &C::uniform, uniform, "The uniform pattern (model \"uniform\")");
     b.number("range_min_m", &C::range_min_m, kM,
              "Shortest range (a surface nearer still blocks the beam, and returns nothing); 0: "
@@ -247,6 +256,12 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                          device.firing_period_s * 1e6,
                          static_cast<int>(std::floor(
                              1.0 / (device.firing_period_s * c.rotation_hz) * (1.0 + 1e-9))))});
+      if (device.columns < 1)
+        out.push_back(
+            {at(c.horizontal_fov_rad),
+             fmt::format("holds no column: the {} columns a revolution are {:.3g} deg "
+                         "apart",
+                         device.revolutionColumns(), 360.0 / device.revolutionColumns())});
       // Each field has its range; their product is bounded too, so that a scan fits in memory
       // (32 bytes a return slot) and in a run: 2^22 pulses is 8 × an OS1-64 at 2048 columns,
       // 2^28 rays every preset with 1024 sub-rays a pulse (about two minutes a scan here).

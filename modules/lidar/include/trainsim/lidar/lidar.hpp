@@ -166,6 +166,9 @@ class Scanner {
 
  private:
   int laser(const LidarPoint& p) const { return ring_lasers_[p.ring]; }
+  /// Rings are ordered by azimuth counter-clockwise from the front (1: KITTI's order), or within
+  /// an azimuth window from the rear (−1), so that the window's columns stay in one run.
+  float keySign() const { return params_.pattern.wholeRevolution() ? 1.0f : -1.0f; }
   /// Laser `laser`'s rays in columns [begin, end), from the columns' `poses`, relative to
   /// `origin`, with several sub-rays a pulse.
   void pulseRays(int laser, std::size_t begin, std::size_t end, const Eigen::Isometry3d* poses,

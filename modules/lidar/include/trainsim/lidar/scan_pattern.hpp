@@ -17,15 +17,20 @@ struct Laser {
 };
 
 /// A rotating LiDAR's firing pattern. The head spins clockwise seen from above (as Velodyne and
-/// Ouster heads do) at `rotation_hz`; a revolution has `columns` columns, column c starting at
-/// c / (columns · rotation_hz) after the frame time, its azimuth 180° − 360° · c / columns (the
-/// frame starts and ends looking backwards, the rear being the seam). Laser l of column c fires
+/// Ouster heads do) at `rotation_hz`; a revolution has N = revolutionColumns() columns, column k
+/// of the revolution starting at k / (N · rotation_hz) after the frame time, its azimuth
+/// 180° − 360° · k / N (the frame starts and ends looking backwards, the rear being the seam).
+/// The scan fires `columns` of them, from k = first_column on: all N, or those within an azimuth
+/// window (windowed()). Laser l of scan column c (revolution column k = first_column + c) fires
 /// time_offset_s later, while the head has turned on, so its ray's azimuth is
-///   α = 180° − 360° · (c / columns + rotation_hz · time_offset_s) + azimuth_offset_deg.
+///   α = 180° − 360° · (k / N + rotation_hz · time_offset_s) + azimuth_offset_deg.
 struct ScanPattern {
   std::string name;
   std::vector<Laser> lasers;  ///< in firing order (laser id)
-  int columns = 0;
+  int columns = 0;            ///< columns a scan fires
+  /// Columns a revolution holds (0: `columns`, a scan of the whole revolution) and the first a
+  /// scan fires.
+  int revolution_columns = 0, first_column = 0;
   double rotation_hz = 10.0;
   double range_min_m = 0.9, range_max_m = 120.0;
   double range_sigma_m = 0.02;  ///< the datasheet's range accuracy, 1 σ
@@ -33,13 +38,18 @@ struct ScanPattern {
   /// lasers of a column fire together.
   double firing_period_s = 0.0;
 
-  double columnPeriod() const { return 1.0 / (columns * rotation_hz); }
+  int revolutionColumns() const { return revolution_columns > 0 ? revolution_columns : columns; }
+  /// Whether the scan fires the whole revolution (no azimuth window).
+  bool wholeRevolution() const { return columns == revolutionColumns(); }
+  double columnPeriod() const { return 1.0 / (revolutionColumns() * rotation_hz); }
   double revolution() const { return 1.0 / rotation_hz; }
-  /// The azimuth of laser l's ray in column c, degrees (not wrapped).
+  /// The azimuth of laser l's ray in scan column c, degrees (not wrapped).
   double azimuthDeg(int column, int laser) const;
-  /// The firing time of laser l in column c after the frame time, seconds.
+  /// The firing time of scan column c after the frame time, seconds.
+  double columnTime(int column) const { return (first_column + column) * columnPeriod(); }
+  /// The firing time of laser l in scan column c after the frame time, seconds.
   double firingTime(int column, int laser) const {
-    return column * columnPeriod() + lasers[static_cast<std::size_t>(laser)].time_offset_s;
+    return columnTime(column) + lasers[static_cast<std::size_t>(laser)].time_offset_s;
   }
   /// Lasers by ring: ringLasers()[r] is the laser with ring r.
   std::vector<int> ringLasers() const;
@@ -53,6 +63,12 @@ std::vector<std::string> presetNames();
 /// preset's rate): as many whole firing sequences as a revolution holds. Throws ConfigError for
 /// an unknown name.
 ScanPattern preset(std::string_view name, double rotation_hz = 0.0, int columns = 0);
+/// `pattern` (a whole revolution) firing only within `fov_deg` of azimuth centred on the
+/// sensor's x axis, as a Velodyne's FOV setting or an Ouster's azimuth window does: the columns
+/// whose azimuth 180° − 360° · k / N lies within ±fov_deg / 2 (the lasers' own offsets turn their
+/// rays a few degrees beyond). `fov_deg` 360 (or more) leaves the pattern as it is; a window too
+/// narrow to hold a column leaves none (columns 0).
+ScanPattern windowed(ScanPattern pattern, double fov_deg);
 /// A uniform pattern: `channels` lasers evenly from fov_up_deg down to fov_down_deg, all of a
 /// column firing together, `columns` columns per revolution.
 ScanPattern uniformPattern(int channels, double fov_up_deg, double fov_down_deg, int columns,
