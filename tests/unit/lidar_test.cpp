@@ -176,6 +176,50 @@ TEST(Scanner, NoReturnBeyondRangeOrPastTheMaximumIncidenceAngle) {
   }
 }
 
+TEST(Scanner, AReturnIsLostBeyondTheRangeItsReflectivityReaches) {
+  // A concrete floor 2 m under the sensor, seen at every range and incidence: with a 10 % target
+  // detected to 25 m, each pulse returns iff its reflectivity ρ (the intensity of the unlimited
+  // scan) is at least 0.1 (R / 25 m)², received power falling as ρ / R². The same through the
+  // echoes of several sub-rays a pulse.
+  const Eigen::Vector3d O(0, 0, 0);
+  const auto tile = makeTile(O, {square({0, 0, -2.0}, {0, 0, 1}, 500.0)});
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  for (const int sub_rays : {1, 4}) {
+    SCOPED_TRACE(sub_rays);
+    lidar::LidarParams p = uniformParams(32, 360);
+    p.pattern = lidar::uniformPattern(32, -1.0, -60.0, 360, 10.0);
+    p.pattern.range_max_m = 200.0;
+    p.sub_rays = sub_rays;
+    p.divergence_rad = 0.0;  // every sub-ray on the axis: the echo's reflectivity is ρ
+    const auto all = lidar::Scanner(p).scan(scene, fixedPose(O), RandomStream(1, "x"), 0);
+    p.range_10_percent_m = 25.0;
+    const auto near = lidar::Scanner(p).scan(scene, fixedPose(O), RandomStream(1, "x"), 0);
+    std::map<std::pair<int, int>, const lidar::LidarPoint*> kept;
+    for (const auto& b : near.points)
+      kept[{b.ring, b.column}] = &b;
+    std::size_t lost = 0, returned = 0;
+    for (const auto& a : all.points) {
+      const double rho = a.intensity, R = a.range_m, least = 0.1 * (R / 25.0) * (R / 25.0);
+      ASSERT_LT(rho, 1.0);  // not clamped
+      const auto b = kept.find({a.ring, a.column});
+      if (std::abs(rho - least) < 1e-5 * least)
+        continue;  // on the limit, within float rounding
+      if (rho > least) {
+        ASSERT_NE(b, kept.end()) << "lost at " << R << " m, reflectivity " << rho;
+        EXPECT_EQ(b->second->range_m, a.range_m);
+        ++returned;
+      } else {
+        EXPECT_EQ(b, kept.end()) << "returned at " << R << " m, reflectivity " << rho;
+        ++lost;
+      }
+    }
+    EXPECT_GT(returned, 1000u);
+    EXPECT_GT(lost, 1000u);
+    EXPECT_EQ(near.points.size() + lost, all.points.size());
+  }
+}
+
 TEST(Scanner, ASurfaceNearerThanTheMinimumRangeBlocksItsBeams) {
   // A post ahead, before a wall 10 m ahead (its edges well away from any beam); the minimum range 2
   // m. At 1 m the post's beams return nothing (a real receiver is blind that near, and the post is

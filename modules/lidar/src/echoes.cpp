@@ -64,11 +64,14 @@ void echoesOf(std::vector<SubHit>& sub, double separation, double weight, std::v
 std::size_t selectReturns(std::vector<Echo>& echoes, const LidarParams& params) {
   std::size_t strongest = echoes.size(), last = echoes.size();
   double power = 0.0;
+  const double detectable = params.detectable();
   for (std::size_t i = 0; i < echoes.size(); ++i) {
     const Echo& e = echoes[i];
     if (!(e.reflectivity > 0.0) || e.reflectivity < params.intensity_threshold)
       continue;
     const double p = e.reflectivity / (e.range * e.range);
+    if (e.reflectivity < detectable * (e.range * e.range))  // as packetReturns() has it
+      continue;
     if (strongest == echoes.size() || p > power) {
       strongest = i;
       power = p;

@@ -280,6 +280,7 @@ std::size_t Scanner::castPulses(const RayScene& scene, const RandomStream& rando
   setup.sigma0 = params_.range_sigma_m;
   setup.sigma1 = params_.range_sigma_slope;
   setup.threshold = params_.intensity_threshold;
+  setup.detectable = params_.detectable();
   setup.range_min = static_cast<float>(p.range_min_m);
   setup.range_max = static_cast<float>(p.range_max_m);
   setup.falloff = params_.range_falloff;

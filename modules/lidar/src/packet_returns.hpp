@@ -67,6 +67,7 @@ struct PacketSetup {
   const Backscatter* backscatter = nullptr;  // by material id
   double sigma0 = 0.0, sigma1 = 0.0;         // range noise: σ = sigma0 + sigma1 · range
   double threshold = 0.0;                    // the least reflectivity that returns
+  double detectable = 0.0;                   // the least reflectivity / range² (LidarParams)
   float range_min = 0.0f, range_max = 0.0f;
   bool falloff = false;
   IntensityScale scale = IntensityScale::kUnit;

@@ -80,6 +80,7 @@ struct LidarConfig {
   double range_sigma_per_m = 0.0;
   double dropout = 0.0;
   double intensity_threshold = 0.0;
+  double range_10_percent_m = 0.0;
   IntensityQuantity intensity = IntensityQuantity::kReflectivity;
   IntensityScaleName scale = IntensityScaleName::kUnit;
   bool motion_distortion = true;
@@ -186,6 +187,14 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
     b.number("intensity_threshold", &C::intensity_threshold, units::kNone,
              "Returns whose reflectivity is below this are lost")
         .range(0, 10);
+    b.number("range_10_percent_m", &C::range_10_percent_m, kM,
+             "How far a 10 % Lambertian target at normal incidence is detected (the OS1 "
+             "datasheet: 40 m, and 120 m at 80 %): received power falls as reflectivity / R^2, so "
+             "a return of reflectivity rho (the Lambertian-Beckmann backscatter at its incidence, "
+             "times the share of the beam's footprint it covers) is lost beyond "
+             "range_10_percent_m * sqrt(rho / 0.1): dark ground at a grazing angle fades first; "
+             "0: every return within range_max_m")
+        .range(0, 2000);
     b.choice("intensity", &C::intensity,
              "reflectivity: Lambertian-Beckmann backscatter of the material at its incidence "
              "(calibrated, as Velodyne reports it); raw: the same falling as 1/R^2, equal at 10 m");
@@ -325,6 +334,7 @@ lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
   p.range_sigma_slope = c.range_sigma_per_m;
   p.dropout = c.dropout;
   p.intensity_threshold = c.intensity_threshold;
+  p.range_10_percent_m = c.range_10_percent_m;
   p.scale = c.scale == IntensityScaleName::kVlp16 ? lidar::IntensityScale::kVlp16
                                                   : lidar::IntensityScale::kUnit;
   p.range_falloff = c.intensity == IntensityQuantity::kRaw;

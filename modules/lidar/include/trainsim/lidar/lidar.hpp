@@ -27,6 +27,15 @@ struct LidarParams {
   double range_sigma_slope = 0.0;
   double dropout = 0.0;              ///< probability that a return is lost
   double intensity_threshold = 0.0;  ///< returns whose reflectivity is below this are lost
+  /// How far a 10 % Lambertian target at normal incidence is detected: an echo of reflectivity
+  /// ρ (its Lambertian-Beckmann backscatter, times the share of the footprint it covers) is lost
+  /// beyond range_10_percent_m · √(ρ / 0.1), as received power falls as ρ / R². 0: no limit but
+  /// the pattern's range_max_m.
+  double range_10_percent_m = 0.0;
+  /// The least ρ / R² (m⁻²) detected: 0.1 / range_10_percent_m², 0 without that limit.
+  double detectable() const {
+    return range_10_percent_m > 0.0 ? 0.1 / (range_10_percent_m * range_10_percent_m) : 0.0;
+  }
   IntensityScale scale = IntensityScale::kUnit;
   bool range_falloff = false;  ///< intensity falls as 1/R² (raw) instead of reflectivity
   /// Each column cast from the pose at its own firing time (a spinning sensor on a moving
