@@ -70,6 +70,71 @@ TEST(Assets, RailsSitAtGaugeAndFollowTheCant) {
   EXPECT_NEAR(environment::gaugeFaceOffset(1.0 / 40.0), 0.036, 1e-3);
 }
 
+TEST(Assets, EveryTrackHasASleeperEverySpacingAcrossEveryTileBorder) {
+  // Every sleeper_spacing_m of each track's own distance there is one sleeper, whichever tile
+  // it falls in: a sleeper near a tile's border may lie on a polyline segment the next tile
+  // owns (they went missing there, 1-2 at every border).
+  const World& w = defaultWorld();
+  const double spacing = w.env().params().assets.sleeper_spacing_m;
+  // The sleepers' centres in plan, hashed by 1 m cells.
+  std::map<std::pair<long, long>, std::vector<Eigen::Vector2d>> centres;
+  std::size_t sleepers = 0;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects)
+      for (const scene::MeshPart& part : o.mesh->parts) {
+        if (part.cls != scene::cls::kSleeper)
+          continue;
+        ASSERT_EQ(part.triangle_count % 12, 0u);  // boxes of 6 quads, 24 vertices each
+        for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
+             t += 12) {
+          std::uint32_t base = std::numeric_limits<std::uint32_t>::max();
+          for (std::uint32_t k = t; k < t + 12; ++k)
+            for (const std::uint32_t v : o.mesh->triangles[k])
+              base = std::min(base, v);
+          Eigen::Vector3d c = Eigen::Vector3d::Zero();
+          for (std::uint32_t v = base; v < base + 24; ++v)
+            c += o.worldVertex(v) / 24.0;
+          centres[{std::lround(std::floor(c.x())), std::lround(std::floor(c.y()))}].push_back(
+              c.head<2>());
+          ++sleepers;
+        }
+      }
+  const auto found = [&](const Eigen::Vector2d& p) {
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto cell = centres.find(
+            {std::lround(std::floor(p.x())) + dx, std::lround(std::floor(p.y())) + dy});
+        if (cell != centres.end())
+          for (const Eigen::Vector2d& c : cell->second)
+            if ((c - p).norm() < 0.05)  // chord sag and the cant's tilt of the sleeper's axis
+              return true;
+      }
+    return false;
+  };
+  std::size_t expected = 0, missing = 0;
+  for (const auto& t : w.railway().layout().tracks) {
+    const track::Polyline line = track::samplePolyline(w.railway().main(), t);
+    for (std::size_t k = 0; k + 1 < line.points.size(); ++k) {
+      const double d0 = line.distance_m[k], d1 = line.distance_m[k + 1];
+      for (double n = std::ceil(d0 / spacing); n * spacing < d1; n += 1.0) {
+        const double u = (n * spacing - d0) / (d1 - d0);
+        const Eigen::Vector2d p = ((1.0 - u) * line.points[k] + u * line.points[k + 1]).head<2>();
+        ++expected;
+        if (!found(p)) {
+          ++missing;
+          ADD_FAILURE() << "no sleeper on track " << t.id << " at distance " << n * spacing
+                        << " m (" << p.transpose() << ")";
+          if (missing > 10)
+            return;
+        }
+      }
+    }
+  }
+  EXPECT_GT(expected, 20000u);
+  // One each: none twice (a tile border's sleeper made by both tiles).
+  EXPECT_NEAR(static_cast<double>(sleepers), static_cast<double>(expected), 3.0);
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

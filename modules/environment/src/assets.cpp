@@ -81,7 +81,7 @@ double gaugeFaceOffset(double inclination) {
 namespace detail {
 
 std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track, double x0,
-                                               double x1) {
+                                               double x1, double reach_m) {
   std::vector<std::vector<FramePoint>> runs;
   const terrain::Railway& railway = ctx.env.railway();
   for (const terrain::Stretch& s : railway.stretchesNear(ctx.lo, ctx.hi, 10.0)) {
@@ -97,7 +97,11 @@ std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track
     for (std::size_t k = 0; k + 1 < line.points.size(); ++k) {
       const Eigen::Vector3d mid = 0.5 * (line.points[k] + line.points[k + 1]);
       const double xm = 0.5 * (line.main_chainage_m[k] + line.main_chainage_m[k + 1]);
-      const bool own = ctx.owns(mid) && xm >= x0 && xm <= x1;
+      const Eigen::Vector2d a = line.points[k].head<2>(), b = line.points[k + 1].head<2>();
+      const bool near = reach_m > 0.0 ? (a.cwiseMax(b).array() >= ctx.lo.array() - reach_m).all() &&
+                                            (a.cwiseMin(b).array() < ctx.hi.array() + reach_m).all()
+                                      : ctx.owns(mid);
+      const bool own = near && xm >= x0 && xm <= x1;
       if (own) {
         if (run.empty())
           run.push_back(frame_point(k));
@@ -210,9 +214,13 @@ void addTrackAssets(TileContext& ctx) {
 
   for (const auto& t : ctx.env.railway().layout().tracks) {
     const auto runs = ownedRuns(ctx, t.id, -1e300, 1e300);
-    if (runs.empty())
-      continue;
+    // Sleepers are looked for along every segment reaching into the tile, not only those it
+    // owns: a sleeper near the border may lie on a segment the next tile owns (a track along a
+    // tile's border may even have no segment here and its sleepers' centres all here).
+    const auto sleeper_runs = ownedRuns(ctx, t.id, -1e300, 1e300, 1.0);
     for (const int side : {1, -1}) {
+      if (runs.empty())
+        break;
       // The rail's section in (left, up): a outward, so left = side · (centre + a).
       std::vector<Eigen::Vector2d> section;
       for (const auto& p : profile)
@@ -249,7 +257,7 @@ void addTrackAssets(TileContext& ctx) {
     // Sleepers every sleeper_spacing_m of the track's own distance, in the tile holding their
     // centre, square to the track in the plane of the rails.
     bed->beginPart(scene::cls::kSleeper, scene::mat::kConcrete);
-    for (const auto& run : runs) {
+    for (const auto& run : sleeper_runs) {
       const double d0 = run.front().distance_m, d1 = run.back().distance_m;
       for (double k = std::ceil(d0 / A.sleeper_spacing_m); k * A.sleeper_spacing_m <= d1;
            k += 1.0) {
@@ -275,8 +283,9 @@ void addTrackAssets(TileContext& ctx) {
                               (0.5 * A.sleeper_height_m * f.up).cast<float>());
       }
     }
-    ctx.tile.objects.push_back(
-        scene::Object::place(bed, ctx.origin, Eigen::Matrix3f::Identity(), 0));
+    if (!bed->triangles.empty())
+      ctx.tile.objects.push_back(
+          scene::Object::place(bed, ctx.origin, Eigen::Matrix3f::Identity(), 0));
   }
 }
 

@@ -74,8 +74,11 @@ struct TileContext {
 
 /// Runs of consecutive polyline points of `track` whose segments this tile owns (a segment
 /// belongs to the tile holding its midpoint), limited to main chainage [x0, x1], with frames.
+/// With `reach_m` > 0, every segment that comes within reach_m of the tile's square instead:
+/// for what is placed along the track and owned by its own position (sleepers), which may lie
+/// in this tile on a segment whose midpoint lies in the next.
 std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track, double x0,
-                                               double x1);
+                                               double x1, double reach_m = 0.0);
 
 /// Extrudes a cross-section (l, u) along a run of frames into `mesh` (part already begun). A
 /// closed profile is oriented automatically; an open one must have the outside on the right of
