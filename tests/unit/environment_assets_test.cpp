@@ -135,6 +135,55 @@ TEST(Assets, EveryTrackHasASleeperEverySpacingAcrossEveryTileBorder) {
   EXPECT_NEAR(static_cast<double>(sleepers), static_cast<double>(expected), 3.0);
 }
 
+TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
+  // Each fence's two strands join every post to the next, whichever tiles the two stand in: the
+  // bay across a tile border belongs to the tile of its first post (it was drawn by neither).
+  std::map<scene::InstanceId, std::vector<Eigen::Vector3d>> posts;  // their feet
+  std::map<scene::InstanceId, std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> bays;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // within 1e-3 near the origin
+  for (const auto& tile : allTiles()) {
+    for (const auto& o : tile->objects) {
+      if (scene::instanceSource(o.instance) != scene::InstanceSource::kTrackAsset ||
+          ((o.instance >> 36) & 0xFF) != 11)
+        continue;
+      for (std::uint32_t first = 0; first + 24 <= o.mesh->vertices.size(); first += 24) {
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (std::uint32_t v = first; v < first + 24; ++v)
+          c += o.worldVertex(v) / 24.0;
+        posts[o.instance].push_back(c - 0.55 * up);  // a post's box: 0.3 m down, 1.4 m up
+      }
+    }
+    for (const scene::Wire& wire : tile->wires)
+      if (wire.cls == scene::cls::kFence)
+        for (std::size_t k = 0; k + 1 < wire.points.size(); ++k)
+          bays[wire.instance].emplace_back(tile->origin + wire.points[k].cast<double>(),
+                                           tile->origin + wire.points[k + 1].cast<double>());
+  }
+  ASSERT_FALSE(posts.empty());
+  std::size_t joined = 0;
+  for (const auto& [instance, feet] : posts) {
+    const auto& spans = bays[instance];
+    // Neighbouring posts: 2.5 m of main chainage apart (a little more or less off the axis).
+    for (std::size_t i = 0; i < feet.size(); ++i)
+      for (std::size_t j = 0; j < feet.size(); ++j) {
+        const double apart = (feet[i] - feet[j]).head<2>().norm();
+        if (i == j || apart < 1.5 || apart > 3.5 || feet[i].x() > feet[j].x())
+          continue;
+        for (const double h : {0.5, 1.2}) {
+          const Eigen::Vector3d a = feet[i] + h * up, b = feet[j] + h * up;
+          const bool drawn = std::any_of(spans.begin(), spans.end(), [&](const auto& s) {
+            return ((s.first - a).norm() < 0.01 && (s.second - b).norm() < 0.01) ||
+                   ((s.first - b).norm() < 0.01 && (s.second - a).norm() < 0.01);
+          });
+          EXPECT_TRUE(drawn) << "no strand at " << h << " m between the posts at "
+                             << feet[i].transpose() << " and " << feet[j].transpose();
+          joined += drawn;
+        }
+      }
+  }
+  EXPECT_GT(joined, 1000u);
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

@@ -253,16 +253,18 @@ void addFencesAndSignals(TileContext& ctx) {
         strand.clear();
       };
       for (double x = b.chainage_begin_m + 1.25; x < b.chainage_end_m; x += 2.5) {
-        if (!inNear(x)) {
-          flush();
+        if (!inNear(x) && strand.empty())
           continue;
-        }
         const auto [l, r] = outermostOffsets(layout, x);
         const double lateral = side > 0 ? l + A.fence_offset_m : r - A.fence_offset_m;
         const track::TrackFrame f = railway.frame(0, x);
         const Eigen::Matrix3d axes = ctx.upright(f.tangent);
         const Eigen::Vector3d p = ctx.ground(f.position + lateral * axes.col(1));
         if (!ctx.owns(p)) {
+          // The bay from this tile's last post to the next belongs to this tile, as a span to
+          // its first support's.
+          if (!strand.empty())
+            strand.push_back(p);
           flush();
           continue;
         }
