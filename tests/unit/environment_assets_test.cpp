@@ -403,20 +403,28 @@ TEST(Assets, PlatformsStandAtTheirEdgeFromTheTracksAndClearOfAnAuxiliaryTracksLe
       }
   ASSERT_GT(leg, parallel + 1.0) << "no leg turns in within the station";
   int front = 0, back = 0, other = 0;
+  std::map<int, int> sides;
   for (const scene::TileIndex& i : w.env().tiles()) {
     const std::shared_ptr<const scene::Tile> tile = w.env().tile(i);  // alive through the loop
     for (const auto& o : tile->objects) {
       const auto asset = scene::trackAsset(o.instance);
-      if (!asset || asset->kind != 7)  // the platforms
+      if (!asset || (asset->kind != 7 && asset->kind != 8))  // the left and right platforms
         continue;
       for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
         const Eigen::Vector3d p = o.worldVertex(v);
-        double d = std::numeric_limits<double>::infinity();
+        double d = std::numeric_limits<double>::infinity(), side = 0.0;
         for (const Segment& s : segments) {
           const Eigen::Vector2d u = (s.b - s.a).head<2>();
           const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
-          d = std::min(d, (p.head<2>() - s.a.head<2>() - t * u).norm());
+          const Eigen::Vector2d off = p.head<2>() - s.a.head<2>() - t * u;
+          if (off.norm() < d) {
+            d = off.norm();
+            side = u.x() * off.y() - u.y() * off.x();  // > 0: left of the track
+          }
         }
+        // Each platform an instance of its own, on its side (they used to share one).
+        EXPECT_EQ(side > 0.0, asset->kind == 7) << "a platform on the wrong side";
+        ++sides[asset->kind];
         if (std::abs(d - A.platform_edge_m) < 0.02)
           ++front;
         else if (std::abs(d - A.platform_edge_m - A.platform_width_m) < 0.02)
@@ -428,6 +436,8 @@ TEST(Assets, PlatformsStandAtTheirEdgeFromTheTracksAndClearOfAnAuxiliaryTracksLe
   }
   EXPECT_GT(front, 0);
   EXPECT_GT(back, 0);
+  EXPECT_GT(sides[7], 0);
+  EXPECT_GT(sides[8], 0);
   EXPECT_EQ(other, 0) << front << " vertices at the front, " << back << " at the back";
 }
 
@@ -615,7 +625,7 @@ TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot)
       ++checked[asset->kind];
     }
   }
-  for (const int kind : {1, 2, 3, 4, 5, 12, 7, 9, 10, 11})
+  for (const int kind : {1, 2, 3, 4, 5, 12, 7, 8, 9, 10, 11})
     EXPECT_GT(checked[kind], 0) << "no asset of kind " << kind;
   EXPECT_FALSE(w.env().trackOf(scene::objectInstance(1, 2, 3)).has_value());
 }

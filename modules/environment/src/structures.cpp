@@ -93,17 +93,19 @@ void addStructures(TileContext& ctx) {
       continue;
     const auto [left, right] = outermostOver(layout, s.chainage_begin_m, s.chainage_end_m);
     auto mesh = std::make_shared<scene::Mesh>();
-    int kind = kPlatformLeft;
+    int kind = kTunnel;
     if (s.type == track::BlockType::kStation) {
       // Side platforms beyond the outermost track on each side where the tracks run parallel,
       // level with platform_height_m above the top of rail, their fronts down to the formation.
       // An auxiliary track's leg turning in within the station would stand in the platform: the
       // platform keeps to the longest stretch clear of it (standing beyond the leg instead put
       // it metres from every track).
-      mesh->beginPart(scene::cls::kPlatform, scene::mat::kConcrete);
+      // Each platform is an object of its own (an instance each for panoptic labels).
       const auto [par_left, par_right] =
           parallelOffsetsOver(layout, s.chainage_begin_m, s.chainage_end_m);
       for (const int side : {1, -1}) {
+        auto platform = std::make_shared<scene::Mesh>();
+        platform->beginPart(scene::cls::kPlatform, scene::mat::kConcrete);
         const double outermost = side > 0 ? par_left : par_right;
         const auto [x0, x1] =
             clearStretch(layout, s.chainage_begin_m, s.chainage_end_m, side, outermost);
@@ -115,7 +117,11 @@ void addStructures(TileContext& ctx) {
                                             {back, -formation}};
         if (x1 - x0 >= kShortestPlatform_m)
           for (const auto& run : ownedRuns(ctx, 0, x0, x1))
-            extrude(*mesh, ctx, run, box, true);
+            extrude(*platform, ctx, run, box, true);
+        if (!platform->triangles.empty())
+          ctx.tile.objects.push_back(scene::Object::place(
+              platform, ctx.origin, Eigen::Matrix3f::Identity(),
+              scene::trackAssetInstance(0, side > 0 ? kPlatformLeft : kPlatformRight, s.block_id)));
       }
     } else if (s.type == track::BlockType::kTunnel) {
       // One tube around all tracks, crown tunnel_crown_m above the rails, lining facing in.
