@@ -184,6 +184,87 @@ TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
   EXPECT_GT(joined, 1000u);
 }
 
+TEST(Assets, ABridgesDeckCarriesItsMastsAndItsPiersCarryEverySpan) {
+  // On the default route's 244 m bridge: every mast standing on it lies within the deck's width
+  // (they stood beside it, their feet in the air), and the piers leave no span longer than
+  // bridge_pier_spacing_m (a 50 m bridge had none, a longer one spans up to twice that).
+  const World& w = defaultWorld();
+  const environment::AssetParams& A = w.env().params().assets;
+  const double formation = w.env().params().terrain.formation_depth_m;
+  std::vector<Segment> main;
+  for (const Segment& s : allSegments(w))
+    if (s.track == 0)
+      main.push_back(s);
+  // Main chainage (from the segments' plan lengths, near enough here), lateral offset (+ left)
+  // and height above the track of a point.
+  const auto along = [&](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity(), x = 0.0, lateral = 0.0, up = 0.0;
+    double start = 0.0;
+    for (const Segment& s : main) {
+      const Eigen::Vector2d u = (s.b - s.a).head<2>();
+      const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d off = p.head<2>() - s.a.head<2>() - t * u;
+      if (off.norm() < best) {
+        best = off.norm();
+        x = start + t * u.norm();
+        lateral = (u.x() * off.y() - u.y() * off.x()) / u.norm();
+        up = p.z() - (s.a.z() + t * (s.b.z() - s.a.z()));
+      }
+      start += u.norm();
+    }
+    return std::array<double, 3>{x, lateral, up};
+  };
+  int bridges = 0;
+  for (const terrain::Structure& b : w.railway().structures()) {
+    if (b.type != track::BlockType::kBridge)
+      continue;
+    ++bridges;
+    double deck_left = -1e9, deck_right = 1e9;
+    std::vector<double> piers;  // the chainages of the piers' vertices
+    std::vector<std::array<double, 3>> masts;
+    for (const auto& tile : allTiles())
+      for (const auto& o : tile->objects) {
+        const auto asset = scene::trackAsset(o.instance);
+        if (!asset)
+          continue;
+        if (asset->kind == 10 && asset->index == b.block_id)
+          for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+            const auto [x, lateral, up] = along(o.worldVertex(v));
+            if (up > -formation - 1.6)  // the deck and parapets
+              std::tie(deck_left, deck_right) =
+                  std::pair(std::max(deck_left, lateral), std::min(deck_right, lateral));
+            else
+              piers.push_back(x);
+          }
+        if (asset->kind == 3 && o.mesh->vertices.size() > 24)  // a mast's box (8 corners x 3)
+          for (std::uint32_t v = 0; v < 24; ++v)
+            if (const auto p = along(o.worldVertex(v));
+                p[0] > b.chainage_begin_m + 1.0 && p[0] < b.chainage_end_m - 1.0)
+              masts.push_back(p);
+      }
+    ASSERT_FALSE(masts.empty());
+    for (const auto& [x, lateral, up] : masts) {
+      EXPECT_LT(lateral, deck_left) << "a mast beside the deck at " << x << " m";
+      EXPECT_GT(lateral, deck_right) << "a mast beside the deck at " << x << " m";
+    }
+    // The piers' centres: their vertices in runs along the track (a pier is 2 m thick).
+    std::sort(piers.begin(), piers.end());
+    std::vector<double> centres;
+    for (std::size_t i = 0, j = 0; i < piers.size(); i = j) {
+      for (j = i; j < piers.size() && piers[j] - piers[i] < 3.0; ++j) {
+      }
+      centres.push_back(0.5 * (piers[i] + piers[j - 1]));
+    }
+    centres.push_back(b.chainage_end_m);
+    double previous = b.chainage_begin_m;
+    for (const double x : centres) {  // 0.1 m: chainage from the plan's chords
+      EXPECT_LE(x - previous, A.bridge_pier_spacing_m + 0.1) << "a span ending at " << x << " m";
+      previous = x;
+    }
+  }
+  EXPECT_GT(bridges, 0);
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

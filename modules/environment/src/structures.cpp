@@ -183,7 +183,9 @@ void addStructures(TileContext& ctx) {
       // Deck under the ballast of all tracks, parapets on both edges, piers down to the valley.
       kind = kBridge;
       mesh->beginPart(scene::cls::kBridge, scene::mat::kConcrete);
-      const double l = left + 3.0, rr = right - 3.0, deck = 1.5;
+      // 3 m beyond the outermost tracks, or wide enough to carry the catenary's masts.
+      const double half = A.catenary ? std::max(3.0, A.mast_offset_m + 0.5) : 3.0;
+      const double l = left + half, rr = right - half, deck = 1.5;
       const std::vector<Eigen::Vector2d> slab = {
           {l, -formation - deck}, {l, -formation}, {rr, -formation}, {rr, -formation - deck}};
       const std::vector<Eigen::Vector2d> parapet_l = {
@@ -196,9 +198,10 @@ void addStructures(TileContext& ctx) {
         extrude(*mesh, ctx, run, parapet_r, true);
       }
       const double length = s.chainage_end_m - s.chainage_begin_m;
-      const int piers = static_cast<int>(std::floor(length / A.bridge_pier_spacing_m));
-      for (int p = 1; p < piers; ++p) {
-        const double x = s.chainage_begin_m + length * p / piers;
+      // Spans of at most bridge_pier_spacing_m between the abutments.
+      const int spans = std::max(1, static_cast<int>(std::ceil(length / A.bridge_pier_spacing_m)));
+      for (int p = 1; p < spans; ++p) {
+        const double x = s.chainage_begin_m + length * p / spans;
         const track::TrackFrame f = railway.frame(0, x);
         const Eigen::Vector3d top =
             f.position + 0.5 * (l + rr) * f.left - (formation + deck) * f.up;
