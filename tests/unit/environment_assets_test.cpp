@@ -4,7 +4,9 @@
 // and against every track, placement order.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -184,20 +186,14 @@ TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
   EXPECT_GT(joined, 1000u);
 }
 
-TEST(Assets, ABridgesDeckCarriesItsMastsAndItsPiersCarryEverySpan) {
-  // On the default route's 244 m bridge: every mast standing on it lies within the deck's width
-  // (they stood beside it, their feet in the air), and the piers leave no span longer than
-  // bridge_pier_spacing_m (a 50 m bridge had none, a longer one spans up to twice that).
-  const World& w = defaultWorld();
-  const environment::AssetParams& A = w.env().params().assets;
-  const double formation = w.env().params().terrain.formation_depth_m;
+// A point's main chainage (from the main track's segments' plan lengths: near enough away from
+// the route's start), lateral offset (+ left) and height above the track, brute force.
+std::function<std::array<double, 3>(const Eigen::Vector3d&)> alongTheMainTrack(const World& w) {
   std::vector<Segment> main;
   for (const Segment& s : allSegments(w))
     if (s.track == 0)
       main.push_back(s);
-  // Main chainage (from the segments' plan lengths, near enough here), lateral offset (+ left)
-  // and height above the track of a point.
-  const auto along = [&](const Eigen::Vector3d& p) {
+  return [main](const Eigen::Vector3d& p) {
     double best = std::numeric_limits<double>::infinity(), x = 0.0, lateral = 0.0, up = 0.0;
     double start = 0.0;
     for (const Segment& s : main) {
@@ -214,6 +210,55 @@ TEST(Assets, ABridgesDeckCarriesItsMastsAndItsPiersCarryEverySpan) {
     }
     return std::array<double, 3>{x, lateral, up};
   };
+}
+
+TEST(Assets, NoMastStandsInATunnelOrItsPortal) {
+  // Within a tunnel and at its portals the supports hang from the crown: a mast at the exit
+  // portal stood through the portal's ring (the first open-line support was placed there).
+  const World& w = defaultWorld();
+  const auto along = alongTheMainTrack(w);
+  std::vector<std::pair<double, double>> tunnels;
+  for (const terrain::Structure& b : w.railway().structures())
+    if (b.type == track::BlockType::kTunnel)
+      tunnels.emplace_back(b.chainage_begin_m, b.chainage_end_m);
+  ASSERT_EQ(tunnels.size(), 2u);
+  int masts = 0, near_portals = 0;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset || asset->kind != 3 || o.mesh->vertices.size() < 24)
+        continue;
+      // A mast's box is its first 24 vertices, from under the formation to 8 m up (an arm or a
+      // hanger reaches 2 m at most).
+      double low = 1e300, high = -1e300;
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (std::uint32_t v = 0; v < 24; ++v) {
+        low = std::min(low, o.worldVertex(v).z());
+        high = std::max(high, o.worldVertex(v).z());
+        c += o.worldVertex(v) / 24.0;
+      }
+      if (high - low < 6.0)
+        continue;
+      ++masts;
+      const double x = along(c)[0];
+      for (const auto& [begin, end] : tunnels) {
+        EXPECT_FALSE(x > begin - 0.5 && x < end + 0.5)
+            << "a mast at " << x << " m, tunnel " << begin << " ... " << end << " m";
+        near_portals += std::abs(x - end) < 70.0;
+      }
+    }
+  EXPECT_GT(masts, 100);
+  EXPECT_GT(near_portals, 0);
+}
+
+TEST(Assets, ABridgesDeckCarriesItsMastsAndItsPiersCarryEverySpan) {
+  // On the default route's 244 m bridge: every mast standing on it lies within the deck's width
+  // (they stood beside it, their feet in the air), and the piers leave no span longer than
+  // bridge_pier_spacing_m (a 50 m bridge had none, a longer one spans up to twice that).
+  const World& w = defaultWorld();
+  const environment::AssetParams& A = w.env().params().assets;
+  const double formation = w.env().params().terrain.formation_depth_m;
+  const auto along = alongTheMainTrack(w);
   int bridges = 0;
   for (const terrain::Structure& b : w.railway().structures()) {
     if (b.type != track::BlockType::kBridge)

@@ -379,8 +379,13 @@ std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const
     if (kappa > 0.0)
       span = std::min(span, std::sqrt(8.0 * 1.5 * std::max(a, 0.05) / kappa));
     const int n = std::max(1, static_cast<int>(std::ceil((c1 - c0) / span - 1e-9)));
+    // The support at a tunnel's exit portal hangs from the crown as the tunnel's others do (a
+    // mast there would stand in the portal's ring).
+    const bool after_tunnel =
+        &block != railway.route().blocks.data() && (&block - 1)->type == track::BlockType::kTunnel;
     for (int k = 0; k < n; ++k)
-      out.push_back({c0 + (c1 - c0) * k / n, 0.0, block.type == track::BlockType::kTunnel,
+      out.push_back({c0 + (c1 - c0) * k / n, 0.0,
+                     block.type == track::BlockType::kTunnel || (k == 0 && after_tunnel),
                      block.type == track::BlockType::kBridge});
   }
   if (railway.route().blocks.empty())
