@@ -385,6 +385,59 @@ TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   EXPECT_GT(joints, 150);
 }
 
+TEST(Objects, StandOnTheLowestGroundUnderTheirFootprintWhereverATilesBorderFalls) {
+  // Each object's foot is the lowest ground under its centre and four rim points, from the
+  // height grid of the tile each point lies in. Near a tile's border some rim points lie beyond
+  // the object's own tile: they were clamped to its edge, and trees of the default route stood
+  // up to 0.25 m above the lowest ground (one at (3043.4, 1.0)). Over km 2.5-3.6 of the route,
+  // against each point's own tile's grid.
+  const World& w = defaultWorld();
+  const terrain::Terrain& terrain = w.env().terrain();
+  std::map<scene::TileIndex, terrain::TerrainTile> grids;
+  const auto ground = [&](const Eigen::Vector2d& p) {
+    const scene::TileIndex i = w.env().grid().tileAt(p.x(), p.y());
+    auto it = grids.find(i);
+    if (it == grids.end())
+      it = grids.emplace(i, terrain.sceneTile(i)).first;
+    // Bilinear in the grid cell (the mesh's triangles split it; the placement reads the grid).
+    const terrain::TerrainTile& t = it->second;
+    const double u = (p.x() - t.origin.x()) / t.spacing_m, v = (p.y() - t.origin.y()) / t.spacing_m;
+    const int c = std::min(static_cast<int>(u), t.n - 2),
+              r = std::min(static_cast<int>(v), t.n - 2);
+    const double fx = u - c, fy = v - r;
+    return (1 - fy) * ((1 - fx) * t.height(c, r) + fx * t.height(c + 1, r)) +
+           fy * ((1 - fx) * t.height(c, r + 1) + fx * t.height(c + 1, r + 1));
+  };
+  double worst = 0.0;
+  std::size_t by_a_border = 0, checked = 0;
+  for (const auto& i : w.env().tiles()) {
+    const Eigen::Vector2d lo = w.env().grid().corner(i);
+    if (lo.x() < 2500.0 || lo.x() > 3600.0)
+      continue;
+    for (const auto& o : w.env().objects(i)) {
+      double lowest = std::numeric_limits<double>::infinity();
+      bool border = false;
+      for (const auto& d :
+           {Eigen::Vector2d(0, 0), Eigen::Vector2d(o.radius_m, 0), Eigen::Vector2d(-o.radius_m, 0),
+            Eigen::Vector2d(0, o.radius_m), Eigen::Vector2d(0, -o.radius_m)}) {
+        const Eigen::Vector2d p = o.position.head<2>() + d;
+        border = border || !(w.env().grid().tileAt(p.x(), p.y()) == i);
+        lowest = std::min(lowest, ground(p));
+      }
+      worst = std::max(worst, std::abs(o.position.z() - lowest));
+      by_a_border += border;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 300u);
+  EXPECT_GT(by_a_border, 20u);
+  EXPECT_LT(worst, 1e-6);
+  // A point's grid height is its tile's, wherever the point is asked from.
+  for (const Eigen::Vector2d p : {Eigen::Vector2d(3043.4, 1.0), Eigen::Vector2d(3087.25, -30.5),
+                                  Eigen::Vector2d(2944.0, 12.125)})
+    EXPECT_NEAR(terrain.gridHeightAt(p.x(), p.y()), ground(p), 1e-6);
+}
+
 TEST(Objects, FootprintsNeverOverlapAndKeepClearOfEveryTrack) {
   const World& w = defaultWorld();
   const auto segments = allSegments(w);

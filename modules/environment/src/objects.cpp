@@ -226,12 +226,20 @@ std::vector<PlacedObject> placeObjects(const Environment& env, scene::TileIndex 
     o.yaw_rad = 2.0 * std::numbers::pi * v[2];
     double z = 0.0;
     if (heights) {
-      // Lowest ground under the footprint's centre and four rim points, so nothing floats.
+      // Lowest ground under the footprint's centre and four rim points, so nothing floats: from
+      // the tile's height grid, or beyond it from the grid cell there as the next tile has it
+      // (clamped to the grid's edge, an object by a tile's border stood on the wrong ground, up
+      // to 0.25 m above the lowest).
       z = std::numeric_limits<double>::infinity();
+      const double extent = (heights->n - 1) * heights->spacing_m;
       for (const auto& d :
            {Eigen::Vector2d(0, 0), Eigen::Vector2d(c.radius, 0), Eigen::Vector2d(-c.radius, 0),
-            Eigen::Vector2d(0, c.radius), Eigen::Vector2d(0, -c.radius)})
-        z = std::min(z, terrainHeight(*heights, c.p + d));
+            Eigen::Vector2d(0, c.radius), Eigen::Vector2d(0, -c.radius)}) {
+        const Eigen::Vector2d at = c.p + d, in = at - heights->origin;
+        const bool inside = in.minCoeff() >= 0.0 && in.maxCoeff() <= extent;
+        z = std::min(
+            z, inside ? terrainHeight(*heights, at) : env.terrain().gridHeightAt(at.x(), at.y()));
+      }
     }
     o.position = {c.p.x(), c.p.y(), z};
     o.instance = scene::objectInstance(index.i, index.j, serial++);

@@ -369,6 +369,20 @@ TerrainTile Terrain::square(scene::TileIndex index, int n) const {
   return t;
 }
 
+double Terrain::gridHeightAt(double x, double y) const {
+  // The grid cell holding the point, filled as a tile holding it fills it.
+  Field f;
+  f.spacing = params_.spacing_m;
+  f.nx = f.ny = 2;
+  f.gx = static_cast<std::int64_t>(std::floor(x / f.spacing));
+  f.gy = static_cast<std::int64_t>(std::floor(y / f.spacing));
+  fill(f);
+  const double fx = std::clamp(x / f.spacing - static_cast<double>(f.gx), 0.0, 1.0);
+  const double fy = std::clamp(y / f.spacing - static_cast<double>(f.gy), 0.0, 1.0);
+  return (1 - fy) * ((1 - fx) * f.height[0] + fx * f.height[1]) +
+         fy * ((1 - fx) * f.height[2] + fx * f.height[3]);
+}
+
 double Terrain::heightAt(double x, double y, HeightParts* parts) const {
   Field f;
   f.global = false;

@@ -129,6 +129,10 @@ class Terrain {
   /// The height at one world point, by the same rules as tile() (not from a tile: it builds a
   /// small index around the point), and what decided it.
   double heightAt(double x, double y, HeightParts* parts = nullptr) const;
+  /// The height the tiles' grids give at one world point (bilinear in the grid cell holding it,
+  /// as terrainHeight() over a tile): the same wherever the tiles' borders fall, as a grid
+  /// vertex's height is the same in every tile holding it.
+  double gridHeightAt(double x, double y) const;
 
   const Railway& railway() const { return *railway_; }
 
