@@ -20,6 +20,32 @@ namespace {
 
 using scenario::Json;
 
+// A point's main chainage (from the main track's segments' plan lengths: near enough away from
+// the route's start), lateral offset (+ left) and height above the track, brute force.
+std::function<std::array<double, 3>(const Eigen::Vector3d&)> alongTheMainTrack(const World& w) {
+  std::vector<Segment> main;
+  for (const Segment& s : allSegments(w))
+    if (s.track == 0)
+      main.push_back(s);
+  return [main](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity(), x = 0.0, lateral = 0.0, up = 0.0;
+    double start = 0.0;
+    for (const Segment& s : main) {
+      const Eigen::Vector2d u = (s.b - s.a).head<2>();
+      const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d off = p.head<2>() - s.a.head<2>() - t * u;
+      if (off.norm() < best) {
+        best = off.norm();
+        x = start + t * u.norm();
+        lateral = (u.x() * off.y() - u.y() * off.x()) / u.norm();
+        up = p.z() - (s.a.z() + t * (s.b.z() - s.a.z()));
+      }
+      start += u.norm();
+    }
+    return std::array<double, 3>{x, lateral, up};
+  };
+}
+
 TEST(Assets, RailsSitAtGaugeAndFollowTheCant) {
   const World& w = defaultWorld();
   const auto& profile = environment::rail60E1().points;
@@ -137,6 +163,46 @@ TEST(Assets, EveryTrackHasASleeperEverySpacingAcrossEveryTileBorder) {
   EXPECT_NEAR(static_cast<double>(sleepers), static_cast<double>(expected), 3.0);
 }
 
+TEST(Assets, TheBallastsToesStandOnTheLevelFormationOnCantedCurves) {
+  // The ballast's shoulders tilt with the cant as the sleepers do, but its toes meet the level
+  // ground beside the track: both toes of a section at one height, and on the default route's
+  // canted curve (2133-2696 m, 105 mm) on the ground beside the single track. Tilted with the
+  // cant, one toe floated 0.18 m above the ground and the other lay as deep in it.
+  const World& w = defaultWorld();
+  const terrain::Terrain& terrain = w.env().terrain();
+  const auto along = alongTheMainTrack(w);
+  std::size_t sections = 0, on_the_curve = 0;
+  double worst_level = 0.0, worst_ground = 0.0;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      if (o.instance != 0 || o.mesh->parts.empty() ||
+          o.mesh->parts.front().cls != scene::cls::kTrackbed)
+        continue;
+      // The ballast's sections: 4 vertices each (toe, shoulder top, shoulder top, toe).
+      const scene::MeshPart& bed = o.mesh->parts.front();
+      std::uint32_t last = 0;
+      for (std::uint32_t t = bed.first_triangle; t < bed.first_triangle + bed.triangle_count; ++t)
+        for (const std::uint32_t v : o.mesh->triangles[t])
+          last = std::max(last, v);
+      for (std::uint32_t k = 0; 4 * k + 3 <= last; ++k) {
+        const Eigen::Vector3d a = o.worldVertex(4 * k), b = o.worldVertex(4 * k + 3);
+        worst_level = std::max(worst_level, std::abs(a.z() - b.z()));
+        ++sections;
+        const auto [x, lateral, up] = along(0.5 * (a + b));
+        if (std::abs(lateral) > 0.5 || x < 2300.0 || x > 2550.0)
+          continue;  // the main track's sections on the curve's full cant
+        for (const Eigen::Vector3d& toe : {a, b})
+          worst_ground =
+              std::max(worst_ground, std::abs(toe.z() - terrain.gridHeightAt(toe.x(), toe.y())));
+        ++on_the_curve;
+      }
+    }
+  EXPECT_GT(sections, 5000u);
+  EXPECT_GT(on_the_curve, 50u);
+  EXPECT_LT(worst_level, 1e-3);
+  EXPECT_LT(worst_ground, 0.03);
+}
+
 TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
   // Each fence's two strands join every post to the next, whichever tiles the two stand in: the
   // bay across a tile border belongs to the tile of its first post (it was drawn by neither).
@@ -184,32 +250,6 @@ TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
       }
   }
   EXPECT_GT(joined, 1000u);
-}
-
-// A point's main chainage (from the main track's segments' plan lengths: near enough away from
-// the route's start), lateral offset (+ left) and height above the track, brute force.
-std::function<std::array<double, 3>(const Eigen::Vector3d&)> alongTheMainTrack(const World& w) {
-  std::vector<Segment> main;
-  for (const Segment& s : allSegments(w))
-    if (s.track == 0)
-      main.push_back(s);
-  return [main](const Eigen::Vector3d& p) {
-    double best = std::numeric_limits<double>::infinity(), x = 0.0, lateral = 0.0, up = 0.0;
-    double start = 0.0;
-    for (const Segment& s : main) {
-      const Eigen::Vector2d u = (s.b - s.a).head<2>();
-      const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
-      const Eigen::Vector2d off = p.head<2>() - s.a.head<2>() - t * u;
-      if (off.norm() < best) {
-        best = off.norm();
-        x = start + t * u.norm();
-        lateral = (u.x() * off.y() - u.y() * off.x()) / u.norm();
-        up = p.z() - (s.a.z() + t * (s.b.z() - s.a.z()));
-      }
-      start += u.norm();
-    }
-    return std::array<double, 3>{x, lateral, up};
-  };
 }
 
 TEST(Assets, NoMastStandsInATunnelOrItsPortal) {

@@ -118,7 +118,8 @@ std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track
 }
 
 void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FramePoint>& run,
-             const std::vector<Eigen::Vector2d>& profile, bool closed) {
+             const std::vector<Eigen::Vector2d>& profile, bool closed,
+             const std::vector<bool>* level) {
   const std::size_t m = profile.size();
   bool ccw = true;
   if (closed) {
@@ -131,9 +132,16 @@ void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FrameP
     ccw = area > 0.0;
   }
   const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
-  for (const FramePoint& f : run)
-    for (const auto& p : profile)
-      mesh.addVertex(ctx.local(f.position + p.x() * f.left + p.y() * f.up));
+  const Eigen::Vector3d vertical = ctx.up();
+  for (const FramePoint& f : run) {
+    const Eigen::Vector3d across = vertical.cross(f.tangent).normalized();  // level, + left
+    for (std::size_t i = 0; i < m; ++i) {
+      const Eigen::Vector2d& p = profile[i];
+      mesh.addVertex(ctx.local(level != nullptr && (*level)[i]
+                                   ? f.position + p.x() * across + p.y() * vertical
+                                   : f.position + p.x() * f.left + p.y() * f.up));
+    }
+  }
   const std::size_t edges = closed ? m : m - 1;
   const auto um = static_cast<std::uint32_t>(m);
   for (std::uint32_t k = 0; k + 1 < run.size(); ++k)
@@ -252,8 +260,11 @@ void addTrackAssets(TileContext& ctx) {
     }
     auto bed = std::make_shared<scene::Mesh>();
     bed->beginPart(scene::cls::kTrackbed, ctx.env.ballastMaterial());
+    // The shoulders' tops tilt with the cant, as the sleepers do; the toes stand on the level
+    // formation beside the track (tilted too, on a 105 mm canted curve one floated 0.18 m).
+    const std::vector<bool> toes = {true, false, false, true};
     for (const auto& run : runs)
-      extrude(*bed, ctx, run, ballast, false);
+      extrude(*bed, ctx, run, ballast, false, &toes);
     // Sleepers every sleeper_spacing_m of the track's own distance, in the tile holding their
     // centre, square to the track in the plane of the rails.
     bed->beginPart(scene::cls::kSleeper, scene::mat::kConcrete);

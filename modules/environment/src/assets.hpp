@@ -84,8 +84,11 @@ std::vector<std::vector<FramePoint>> ownedRuns(const TileContext& ctx, int track
 /// closed profile is oriented automatically; an open one must have the outside on the right of
 /// its direction of travel, seen with the track coming toward the viewer. `part_of_edge`
 /// (optional) picks the part index of each profile edge among `parts`.
+/// Profile points flagged in `level` (optional) are placed across the local horizontal and along
+/// the local vertical instead of the track's canted frame: what meets the level ground.
 void extrude(scene::Mesh& mesh, const TileContext& ctx, const std::vector<FramePoint>& run,
-             const std::vector<Eigen::Vector2d>& profile, bool closed);
+             const std::vector<Eigen::Vector2d>& profile, bool closed,
+             const std::vector<bool>* level = nullptr);
 
 /// The main-track chainage ranges, sorted and disjoint, where a track of the layout (`track`,
 /// or any with -1) passes within `reach` of the tile (plan view): what stands at most `reach`
