@@ -350,6 +350,88 @@ TEST(Assets, ABridgesDeckCarriesItsMastsAndItsPiersCarryEverySpan) {
   EXPECT_GT(bridges, 0);
 }
 
+// The least distance between segments ab and cd (clamped closest points, Ericson 5.1.9).
+double segmentDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                       const Eigen::Vector3d& d) {
+  const Eigen::Vector3d u = b - a, v = d - c, w = a - c;
+  const double uu = u.dot(u), vv = v.dot(v), uv = u.dot(v), uw = u.dot(w), vw = v.dot(w);
+  const double den = uu * vv - uv * uv;
+  double s = den > 1e-12 ? std::clamp((uv * vw - vv * uw) / den, 0.0, 1.0) : 0.0;
+  double t = (uv * s + vw) / vv;
+  if (t < 0.0 || t > 1.0) {
+    t = std::clamp(t, 0.0, 1.0);
+    s = std::clamp((uv * t - uw) / uu, 0.0, 1.0);
+  }
+  return (a + s * u - c - t * v).norm();
+}
+
+TEST(Assets, NoTracksCatenarySupportRunsThroughAnotherTracksWires) {
+  // Where an auxiliary track lies between a track and its mast, the track's cantilever ran
+  // through the other's wires (0.21 m under its contact wire, through its messenger); a boom over
+  // them carries it instead. Every arm, boom and drop tube of a track's supports keeps 0.3 m
+  // from every other track's contact wire and messenger.
+  std::vector<std::pair<int, std::array<Eigen::Vector3d, 2>>> arms, wires;  // track, segment
+  for (const auto& tile : allTiles()) {
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset || asset->kind != 3)
+        continue;
+      // Boxes of 24 vertices (the mast, and a raised mast's extension) and cylinders of 14: six
+      // rim pairs (bottom, top) and the axis' ends, every bottom rim vertex within its radius of
+      // the bottom end (which no six vertices of a box are).
+      const auto& m = o.mesh->vertices;
+      std::uint32_t v = 0;
+      while (v + 14 <= m.size()) {
+        bool cylinder = true;
+        for (std::uint32_t k = 0; k < 6; ++k)
+          cylinder = cylinder && (m[v + 2 * k] - m[v + 12]).norm() < 0.06f &&
+                     (m[v + 2 * k + 1] - m[v + 13]).norm() < 0.06f;
+        if (!cylinder) {
+          v += 24;
+          continue;
+        }
+        arms.push_back({asset->track_id, {o.worldVertex(v + 12), o.worldVertex(v + 13)}});
+        v += 14;
+      }
+    }
+    for (const auto& wire : tile->wires) {
+      const auto asset = scene::trackAsset(wire.instance);
+      if (!asset || (asset->kind != 4 && asset->kind != 5))
+        continue;
+      for (std::size_t k = 0; k + 1 < wire.points.size(); ++k)
+        wires.push_back({asset->track_id,
+                         {tile->origin + wire.points[k].cast<double>(),
+                          tile->origin + wire.points[k + 1].cast<double>()}});
+    }
+  }
+  ASSERT_GT(arms.size(), 200u);
+  std::map<std::pair<long, long>, std::vector<std::size_t>> grid;  // wires by 20 m cells
+  for (std::size_t i = 0; i < wires.size(); ++i)
+    grid[{std::lround(std::floor(wires[i].second[0].x() / 20.0)),
+          std::lround(std::floor(wires[i].second[0].y() / 20.0))}]
+        .push_back(i);
+  std::size_t near_another = 0;
+  for (const auto& [track, arm] : arms) {
+    const long gx = std::lround(std::floor(arm[0].x() / 20.0)),
+               gy = std::lround(std::floor(arm[0].y() / 20.0));
+    for (long dx = -4; dx <= 4; ++dx)
+      for (long dy = -4; dy <= 4; ++dy) {
+        const auto cell = grid.find({gx + dx, gy + dy});
+        if (cell == grid.end())
+          continue;
+        for (const std::size_t i : cell->second) {
+          if (wires[i].first == track)
+            continue;
+          const double d = segmentDistance(arm[0], arm[1], wires[i].second[0], wires[i].second[1]);
+          near_another += d < 2.0;
+          EXPECT_GE(d, 0.3) << "track " << track << "'s support at " << arm[0].transpose()
+                            << " and track " << wires[i].first << "'s wire";
+        }
+      }
+  }
+  EXPECT_GT(near_another, 10u);  // the booms over the auxiliary tracks' wires
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

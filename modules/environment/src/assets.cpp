@@ -183,6 +183,17 @@ bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, d
   return it != ranges.begin() && std::prev(it)->second >= x0;
 }
 
+std::optional<double> trackOffset(const track::LayoutTrack& t, double x) {
+  if (x < t.main_chainage_begin_m || x > t.main_chainage_end_m)
+    return std::nullopt;
+  if (t.offset.empty())
+    return 0.0;  // the main track
+  for (const auto& piece : t.offset)
+    if (x >= piece.x0 && x <= piece.x1)
+      return piece.offset(x);
+  return std::nullopt;
+}
+
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x) {
   double left = 0.0, right = 0.0;
   for (const auto& t : layout.tracks) {
@@ -448,6 +459,30 @@ std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const
   return chooseStaggers(std::move(out), mid_offset, a);
 }
 
+namespace {
+
+// Whether another electrified track lies between `track` and its mast at lateral `mast` (from
+// the main track) at main chainage x: its wires hang where a cantilever would run.
+bool crossesAnotherLine(const Environment& env, const track::LayoutTrack& track, double x,
+                        double mast) {
+  const std::optional<double> own = trackOffset(track, x);
+  if (!own)
+    return false;
+  for (const track::LayoutTrack& other : env.railway().layout().tracks) {
+    if (other.id == track.id)
+      continue;
+    const auto& supports = env.supports(other.id);
+    if (supports.empty() || x < supports.front().x_m || x > supports.back().x_m)
+      continue;
+    const std::optional<double> y = trackOffset(other, x);
+    if (y && (*y - *own) * (*y - mast) < 0.0)
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 void addCatenary(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
   const terrain::Railway& railway = ctx.env.railway();
@@ -507,12 +542,34 @@ void addCatenary(TileContext& ctx) {
           scene::addOrientedBox(
               *mast, ctx.local(base + 0.5 * (foot + top) * up), (0.15 * axes.col(0)).cast<float>(),
               (0.15 * axes.col(1)).cast<float>(), (0.5 * (top - foot) * up).cast<float>());
-        // Cantilever (messenger support) and registration arm out to the contact wire.
         const double support = wire + A.system_height_m;
-        scene::addCylinder(*mast, ctx.local(base + support * up),
-                           ctx.local(ra + A.system_height_m * up), 0.04f, 0.04f, 6);
-        scene::addCylinder(*mast, ctx.local(base + (wire - 0.4) * up), ctx.local(ra), 0.03f, 0.03f,
-                           6);
+        if (!crossesAnotherLine(ctx.env, laid, sa.x_m, lateral)) {
+          // Cantilever (messenger support) and registration arm out to the contact wire.
+          scene::addCylinder(*mast, ctx.local(base + support * up),
+                             ctx.local(ra + A.system_height_m * up), 0.04f, 0.04f, 6);
+          scene::addCylinder(*mast, ctx.local(base + (wire - 0.4) * up), ctx.local(ra), 0.03f,
+                             0.03f, 6);
+        } else {
+          // Another track's wires hang between the mast and this track: a cantilever would run
+          // through them. A boom instead, half a metre over every messenger (the mast raised to
+          // carry it), with a drop tube a metre short of the wire carrying the messenger's
+          // support and the registration arm (as a twin-track cantilever's).
+          const double boom = support + 0.5;
+          if (own_masts && top < boom + 0.3)
+            scene::addOrientedBox(*mast, ctx.local(base + (0.5 * (top + boom) + 0.15) * up),
+                                  (0.15 * axes.col(0)).cast<float>(),
+                                  (0.15 * axes.col(1)).cast<float>(),
+                                  (0.5 * (boom + 0.3 - top) * up).cast<float>());
+          const Eigen::Vector3d toward = (base - ra) - (base - ra).dot(up) * up;  // level
+          const Eigen::Vector3d drop = ra + toward.normalized();
+          scene::addCylinder(*mast, ctx.local(base + boom * up),
+                             ctx.local(drop + (boom - wire) * up), 0.05f, 0.05f, 6);
+          scene::addCylinder(*mast, ctx.local(drop + (boom - wire) * up),
+                             ctx.local(drop - 0.4 * up), 0.04f, 0.04f, 6);
+          scene::addCylinder(*mast, ctx.local(drop + A.system_height_m * up),
+                             ctx.local(ra + A.system_height_m * up), 0.03f, 0.03f, 6);
+          scene::addCylinder(*mast, ctx.local(drop - 0.4 * up), ctx.local(ra), 0.03f, 0.03f, 6);
+        }
       } else {
         // In tunnels the supports hang from the crown.
         const double crown =

@@ -1,6 +1,7 @@
 // Private to the environment module: the track-asset builders behind Environment::tile().
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -98,6 +99,8 @@ std::vector<std::pair<double, double>> mainChainagesNear(const TileContext& ctx,
 /// Whether [x0, x1] meets one of `ranges` (sorted and disjoint).
 bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, double x1);
 
+/// A track's lateral offset from the main track (+ left) at main chainage x, if it is there.
+std::optional<double> trackOffset(const track::LayoutTrack& track, double x);
 /// Lateral offsets (from the main track, + left) of the outermost track on each side at main
 /// chainage x: left ≥ 0, right ≤ 0.
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x);
