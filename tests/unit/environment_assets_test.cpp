@@ -432,6 +432,55 @@ TEST(Assets, NoTracksCatenarySupportRunsThroughAnotherTracksWires) {
   EXPECT_GT(near_another, 10u);  // the booms over the auxiliary tracks' wires
 }
 
+TEST(Assets, InATunnelAsLowAsValidateAllowsTheMessengerKeepsUnderTheLining) {
+  // With terrain.tunnel_crown_m 7.1 m, the least validate accepts, the lining's roof over the
+  // double track's two tracks (off the tube's centre) is 6.78 m above the rails: the messenger,
+  // 1.6 m over the 5.3 m contact wire, ran through it. In a tunnel the system height is cut to
+  // keep it 0.2 m under the roof, read here off the lining's own mesh.
+  const World w = makeWorld(Json::parse(R"({"terrain": {"tunnel_crown_m": 7.1}})"));
+  const auto along = alongTheMainTrack(w);
+  std::set<scene::TileIndex> near;
+  for (const Segment& s : allSegments(w))
+    if (s.type == track::LayoutBlockType::kTunnel)
+      near.insert(w.env().grid().tileAt(s.a.x(), s.a.y()));
+  std::vector<std::array<double, 3>> lining, messenger;  // (chainage, lateral, up)
+  for (const scene::TileIndex& i : near) {
+    const auto tile = w.env().tile(i);
+    for (const auto& o : tile->objects)
+      if (const auto asset = scene::trackAsset(o.instance); asset && asset->kind == 9)
+        for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v)
+          lining.push_back(along(o.worldVertex(v)));
+    for (const auto& wire : tile->wires)
+      if (const auto asset = scene::trackAsset(wire.instance); asset && asset->kind == 5)
+        for (const auto& p : wire.points)
+          messenger.push_back(along(tile->origin + p.cast<double>()));
+  }
+  std::size_t inside = 0;
+  double least = 1e300;
+  for (const auto& [x, lateral, up] : messenger) {
+    // The roof over the point: between the lining's nearest vertices either side of it, across
+    // the rings within a metre along the track (the tube's arc, above the point).
+    double below = -1e300, above = 1e300, z_below = 0.0, z_above = 0.0;
+    for (const auto& [lx, ll, lu] : lining) {
+      if (std::abs(lx - x) > 1.0 || lu < up - 1.0)
+        continue;
+      if (ll <= lateral && ll > below)
+        std::tie(below, z_below) = std::pair(ll, lu);
+      if (ll >= lateral && ll < above)
+        std::tie(above, z_above) = std::pair(ll, lu);
+    }
+    if (below < -1e299 || above > 1e299)
+      continue;  // not under a lining (outside the tunnels)
+    const double roof = above > below
+                            ? z_below + (lateral - below) / (above - below) * (z_above - z_below)
+                            : z_below;
+    least = std::min(least, roof - up);
+    ++inside;
+  }
+  EXPECT_GT(inside, 50u);
+  EXPECT_GE(least, 0.19) << "a messenger " << least << " m under the tunnel's roof";
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

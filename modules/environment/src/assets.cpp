@@ -194,6 +194,50 @@ std::optional<double> trackOffset(const track::LayoutTrack& t, double x) {
   return std::nullopt;
 }
 
+std::pair<double, double> outermostOver(const track::Layout& layout, double x0, double x1) {
+  double left = 0.0, right = 0.0;
+  for (double x = x0;; x = std::min(x1, x + 10.0)) {
+    const auto [l, r] = outermostOffsets(layout, x);
+    left = std::max(left, l);
+    right = std::min(right, r);
+    if (x >= x1)
+      break;
+  }
+  return {left, right};
+}
+
+// the floor, points counter-clockwise seen along the track (inside facing in: callers flip).
+std::vector<Eigen::Vector2d> horseshoe(double centre, double r, double spring, double floor,
+                                       int segments) {
+  std::vector<Eigen::Vector2d> out;
+  out.emplace_back(centre + r, floor);
+  for (int i = 0; i <= segments; ++i) {
+    const double a = std::numbers::pi * i / segments;
+    out.emplace_back(centre + r * std::cos(a), spring + r * std::sin(a));
+  }
+  out.emplace_back(centre - r, floor);
+  return out;
+}
+
+TunnelTube tunnelTube(const track::Layout& layout, const terrain::TerrainParams& T, double x0,
+                      double x1) {
+  const auto [left, right] = outermostOver(layout, x0, x1);
+  const double r = std::max(T.tunnel_half_width_m - 1.0, 0.5 * (left - right) + 3.0);
+  return {0.5 * (left + right), r, T.tunnel_crown_m - r};
+}
+
+double TunnelTube::roof(double lateral) const {
+  // Along the arc's chords, as horseshoe() lays them.
+  const auto arc = horseshoe(centre, r, spring, spring, kTunnelArc);
+  for (std::size_t i = 1; i + 2 < arc.size(); ++i) {
+    const Eigen::Vector2d& a = arc[i + 1];  // the chords run from +r to −r
+    const Eigen::Vector2d& b = arc[i];
+    if (lateral >= a.x() && lateral <= b.x())
+      return a.y() + (lateral - a.x()) / (b.x() - a.x()) * (b.y() - a.y());
+  }
+  return spring;
+}
+
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x) {
   double left = 0.0, right = 0.0;
   for (const auto& t : layout.tracks) {
@@ -461,6 +505,10 @@ std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const
 
 namespace {
 
+// Between a tunnel's lining and the messenger under it, at least: a margin for the electrical
+// clearance to earthed structures [unverified: EN 50119 has the figures; not checked here].
+constexpr double kTunnelClearance_m = 0.2;
+
 // Whether another electrified track lies between `track` and its mast at lateral `mast` (from
 // the main track) at main chainage x: its wires hang where a cantilever would run.
 bool crossesAnotherLine(const Environment& env, const track::LayoutTrack& track, double x,
@@ -497,9 +545,24 @@ void addCatenary(TileContext& ctx) {
   }
   const bool has_double =
       layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  // The lining's roof over a track at main chainage x in a tunnel, above the top of rail (the
+  // crown over the tube's centre, lower off it), and the system height a support keeps under it.
+  // (`across`: how far the wire is staggered left of the track.)
+  const auto tunnelRoofAt = [&](const track::LayoutTrack& laid, double x, double across) {
+    for (const terrain::Structure& s : railway.structures())
+      if (s.type == track::BlockType::kTunnel && x >= s.chainage_begin_m && x <= s.chainage_end_m)
+        return tunnelTube(layout, ctx.env.params().terrain, s.chainage_begin_m, s.chainage_end_m)
+            .roof(trackOffset(laid, x).value_or(0.0) + across);
+    return ctx.env.params().terrain.tunnel_crown_m;
+  };
   for (const track::LayoutTrack& laid : layout.tracks) {
     const int track_id = laid.id;
     const auto& supports = ctx.env.supports(track_id);
+    const auto systemHeight = [&](const CatenarySupport& s) {
+      return s.tunnel ? std::min(A.system_height_m, tunnelRoofAt(laid, s.x_m, s.stagger_m) -
+                                                        A.contact_height_m - kTunnelClearance_m)
+                      : A.system_height_m;
+    };
     // The main track's masts stand on its left, the double track's on its right, beyond the
     // outermost track on that side. An auxiliary track's wires hang from the masts on its side
     // (at the same chainages: its supports are the main track's): only one on the right of a
@@ -521,6 +584,7 @@ void addCatenary(TileContext& ctx) {
       const Eigen::Vector3d rb = fb.position + A.contact_height_m * fb.up + sb.stagger_m * fb.left;
       if (!ctx.owns(ra))
         continue;  // a span belongs to the tile of its first support
+      const double system_a = systemHeight(sa), system_b = systemHeight(sb);
       // Mast beside the outermost track on its side, standing vertical. Heights are along the
       // vertical from `base`, the mast's plan position at the track's level.
       const track::TrackFrame fm = railway.frame(0, sa.x_m);
@@ -571,18 +635,18 @@ void addCatenary(TileContext& ctx) {
           scene::addCylinder(*mast, ctx.local(drop - 0.4 * up), ctx.local(ra), 0.03f, 0.03f, 6);
         }
       } else {
-        // In tunnels the supports hang from the crown.
-        const double crown =
-            ctx.heightOver(fa.position, ra) + ctx.env.params().terrain.tunnel_crown_m;
-        scene::addCylinder(*mast, ctx.local(ra + A.system_height_m * up),
-                           ctx.local(ra + crown * up), 0.04f, 0.04f, 6);
+        // In tunnels the supports hang from the lining's roof.
+        const double roof =
+            ctx.heightOver(fa.position, ra) + tunnelRoofAt(laid, sa.x_m, sa.stagger_m);
+        scene::addCylinder(*mast, ctx.local(ra + system_a * up), ctx.local(ra + roof * up), 0.04f,
+                           0.04f, 6);
       }
       ctx.tile.objects.push_back(
           scene::Object::place(mast, ctx.origin, Eigen::Matrix3f::Identity(),
                                scene::trackAssetInstance(track_id, kMast, index)));
       // Contact wire (straight between registrations), messenger (a parabola from the supports
       // down to sag at mid-span) and vertical droppers between them.
-      const double sag = std::min(0.6, A.system_height_m - 0.5);
+      const double sag = std::min(0.6, std::min(system_a, system_b) - 0.5);
       const int drops =
           std::max(1, static_cast<int>(std::ceil((rb - ra).norm() / A.dropper_spacing_m)));
       scene::Wire contact{{ctx.local(ra), ctx.local(rb)},
@@ -599,7 +663,10 @@ void addCatenary(TileContext& ctx) {
         const double tau = static_cast<double>(j) / drops;
         const Eigen::Vector3d on_contact = ra + tau * (rb - ra);
         const Eigen::Vector3d on_messenger =
-            on_contact + (A.system_height_m - 4.0 * sag * tau * (1.0 - tau)) * ctx.up();
+            on_contact +
+            ((system_a == system_b ? system_a : (1.0 - tau) * system_a + tau * system_b) -
+             4.0 * sag * tau * (1.0 - tau)) *
+                ctx.up();
         messenger.points.push_back(ctx.local(on_messenger));
         if (j > 0 && j < drops)
           ctx.tile.wires.push_back({{ctx.local(on_contact), ctx.local(on_messenger)},

@@ -99,6 +99,25 @@ std::vector<std::pair<double, double>> mainChainagesNear(const TileContext& ctx,
 /// Whether [x0, x1] meets one of `ranges` (sorted and disjoint).
 bool overlaps(const std::vector<std::pair<double, double>>& ranges, double x0, double x1);
 
+/// Outermost track offsets (as outermostOffsets) over a chainage range, sampled every 10 m.
+std::pair<double, double> outermostOver(const track::Layout& layout, double x0, double x1);
+/// A horseshoe of radius r around (centre, 0): a half circle of `segments` chords above
+/// `spring` and walls down to `floor`, from (centre + r, floor) round to (centre − r, floor).
+std::vector<Eigen::Vector2d> horseshoe(double centre, double r, double spring, double floor,
+                                       int segments);
+/// Chords of a tunnel lining's arc.
+constexpr int kTunnelArc = 16;
+/// A tunnel's tube: one horseshoe around all its tracks, crown tunnel_crown_m above the rails,
+/// in (lateral from the main track, height above the top of rail).
+struct TunnelTube {
+  double centre = 0.0, r = 0.0, spring = 0.0;
+  /// The lining's height over `lateral` (on its chords; the springing beyond them).
+  double roof(double lateral) const;
+};
+/// The tube of the tunnel over main chainages [x0, x1].
+TunnelTube tunnelTube(const track::Layout& layout, const terrain::TerrainParams& terrain, double x0,
+                      double x1);
+
 /// A track's lateral offset from the main track (+ left) at main chainage x, if it is there.
 std::optional<double> trackOffset(const track::LayoutTrack& track, double x);
 /// Lateral offsets (from the main track, + left) of the outermost track on each side at main

@@ -12,19 +12,6 @@ namespace {
 // A platform shorter than this is not laid (m).
 constexpr double kShortestPlatform_m = 20.0;
 
-// Outermost track offsets over a chainage range (sampled every 10 m).
-std::pair<double, double> outermostOver(const track::Layout& layout, double x0, double x1) {
-  double left = 0.0, right = 0.0;
-  for (double x = x0;; x = std::min(x1, x + 10.0)) {
-    const auto [l, r] = outermostOffsets(layout, x);
-    left = std::max(left, l);
-    right = std::min(right, r);
-    if (x >= x1)
-      break;
-  }
-  return {left, right};
-}
-
 // The outermost offsets over a chainage range of the tracks where they run parallel to the main
 // track: an auxiliary track's legs, which turn in from a turnout or a dead end, left out.
 std::pair<double, double> parallelOffsetsOver(const track::Layout& layout, double x0, double x1) {
@@ -58,20 +45,6 @@ std::pair<double, double> clearStretch(const track::Layout& layout, double x0, d
     }
   }
   return best;
-}
-
-// A horseshoe of radius r around (centre, 0): a half circle above `spring` and walls down to
-// the floor, points counter-clockwise seen along the track (inside facing in: callers flip).
-std::vector<Eigen::Vector2d> horseshoe(double centre, double r, double spring, double floor,
-                                       int segments) {
-  std::vector<Eigen::Vector2d> out;
-  out.emplace_back(centre + r, floor);
-  for (int i = 0; i <= segments; ++i) {
-    const double a = std::numbers::pi * i / segments;
-    out.emplace_back(centre + r * std::cos(a), spring + r * std::sin(a));
-  }
-  out.emplace_back(centre - r, floor);
-  return out;
 }
 
 }  // namespace
@@ -127,10 +100,8 @@ void addStructures(TileContext& ctx) {
       // One tube around all tracks, crown tunnel_crown_m above the rails, lining facing in.
       kind = kTunnel;
       mesh->beginPart(scene::cls::kTunnel, scene::mat::kConcrete);
-      const double centre = 0.5 * (left + right);
-      const double r = std::max(T.tunnel_half_width_m - 1.0, 0.5 * (left - right) + 3.0);
-      const double spring = T.tunnel_crown_m - r;
-      auto lining = horseshoe(centre, r, spring, -formation, 16);
+      const auto [centre, r, spring] = tunnelTube(layout, T, s.chainage_begin_m, s.chainage_end_m);
+      auto lining = horseshoe(centre, r, spring, -formation, kTunnelArc);
       std::reverse(lining.begin(), lining.end());  // clockwise: normals face the inside
       lining.push_back(lining.front());            // and the invert, the floor under the track bed
       for (const auto& run : runs) {
@@ -142,12 +113,12 @@ void addStructures(TileContext& ctx) {
         const track::TrackFrame f = railway.frame(0, x);
         if (!ctx.owns(f.position))
           continue;
-        const auto inner = horseshoe(centre, r, spring, -formation, 16);
+        const auto inner = horseshoe(centre, r, spring, -formation, kTunnelArc);
         // The terrain is cut away in the cells around the bore (within tunnel_half_width_m of a
         // track, and a cell more): the ring is wide enough to close that cut at the portal, on
         // the far side of a tube offset to the middle of several tracks too, and reaches 3 m
         // into the ground.
-        const auto outer = horseshoe(centre, r + 4.5, spring, -formation - 3.0, 16);
+        const auto outer = horseshoe(centre, r + 4.5, spring, -formation - 3.0, kTunnelArc);
         const double facing = x == s.chainage_begin_m ? -1.0 : 1.0;  // out of the tunnel
         // Quad a b c d as laid out for the portal at the tunnel's end; flipped at its beginning.
         const auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {

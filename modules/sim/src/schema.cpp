@@ -1,5 +1,7 @@
 #include "trainsim/sim/schema.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <optional>
 
@@ -31,7 +33,25 @@ constexpr void (*kSections[])(Schema&) = {
     [](Schema& s) { layoutSection().addTo(s); },
     [](Schema& s) { trainSection().addTo(s); },
     [](Schema& s) { terrainSection().addTo(s); },
-    [](Schema& s) { assetsSection().addTo(s); },
+    [](Schema& s) {
+      assetsSection().addTo(s);
+      // The catenary under a tunnel's crown: the lining's roof over a track off the tube's
+      // centre lies up to half a metre lower, and the messenger keeps 1.1 m (the least system
+      // height in tunnels, sensors-reference.md 5.3) over the wire and 0.2 m under the roof.
+      s.addCheck([](const scenario::Json& resolved, std::vector<scenario::Problem>& problems) {
+        const environment::AssetParams a = assetsSection().read(resolved);
+        const terrain::TerrainParams t = terrainSection().read(resolved);
+        if (const double least = a.contact_height_m + 1.1 + 0.2 + 0.5;
+            a.catenary && t.tunnel_crown_m < least - 1e-9)
+          problems.push_back(
+              {"terrain.tunnel_crown_m",
+               fmt::format("is {:g} m but the catenary needs at least {:g} m in a tunnel "
+                           "(assets.contact_height_m {:g} m, 1.1 m of system height, 0.2 m "
+                           "under the lining, 0.5 m for a track off the tube's centre); or set "
+                           "assets.catenary false",
+                           t.tunnel_crown_m, least, a.contact_height_m)});
+      });
+    },
     [](Schema& s) { objectsSection().addTo(s); },
     [](Schema& s) { addSensorsSection(s); },
 };
