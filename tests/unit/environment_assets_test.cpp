@@ -481,6 +481,64 @@ TEST(Assets, InATunnelAsLowAsValidateAllowsTheMessengerKeepsUnderTheLining) {
   EXPECT_GE(least, 0.19) << "a messenger " << least << " m under the tunnel's roof";
 }
 
+TEST(Assets, TheGroundCutOverATunnelsFirstMetresLiesUnderItsShell) {
+  // Behind a portal the ground is cut away over the bore (the terrain's `bore` vertices), wider
+  // than the tube's lining: a line of sight from above passed between the two, and the sky
+  // showed through the hill. A shell as wide as the portal's ring covers the first 20 m. Every
+  // cut vertex lies laterally within the tunnel's mesh inside the tube (the ring, its sill and
+  // apron left out) and within 20 m of a portal.
+  const World& w = defaultWorld();
+  const auto along = alongTheMainTrack(w);
+  std::set<scene::TileIndex> near;
+  for (const Segment& s : allSegments(w))
+    if (s.type == track::LayoutBlockType::kTunnel)
+      near.insert(w.env().grid().tileAt(s.a.x(), s.a.y()));
+  std::vector<std::pair<double, double>> portals;
+  for (const terrain::Structure& b : w.railway().structures())
+    if (b.type == track::BlockType::kTunnel)
+      portals.emplace_back(b.chainage_begin_m, b.chainage_end_m);
+  const auto portalOf = [&](double x) {
+    for (std::size_t k = 0; k < portals.size(); ++k)
+      for (const double p : {portals[k].first, portals[k].second})
+        if (std::abs(x - p) < 20.5)
+          return static_cast<int>(2 * k + (p == portals[k].second ? 1 : 0));
+    return -1;
+  };
+  std::map<int, std::pair<double, double>> extent;  // per portal: the mesh's laterals behind it
+  std::vector<std::array<double, 3>> cut;
+  for (const scene::TileIndex& i : near) {
+    const auto tile = w.env().tile(i);
+    for (const auto& o : tile->objects)
+      if (const auto asset = scene::trackAsset(o.instance); asset && asset->kind == 9)
+        for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+          const auto [x, lateral, up] = along(o.worldVertex(v));
+          // Inside the tube, half a metre and more behind the portal (the ring, its sill and the
+          // apron in front of it left out).
+          const int p = portalOf(x);
+          if (p < 0 || x < portals[p / 2].first + 0.5 || x > portals[p / 2].second - 0.5)
+            continue;
+          auto& [lo, hi] = extent.try_emplace(p, 1e300, -1e300).first->second;
+          lo = std::min(lo, lateral);
+          hi = std::max(hi, lateral);
+        }
+    const terrain::TerrainTile t = w.env().terrain().sceneTile(i);
+    for (int r = 0; r < t.n; ++r)
+      for (int c = 0; c < t.n; ++c)
+        if (t.inBore(c, r))
+          cut.push_back(along(t.vertex(c, r)));
+  }
+  ASSERT_GT(cut.size(), 50u);
+  for (const auto& [x, lateral, up] : cut) {
+    const int p = portalOf(x);
+    ASSERT_GE(p, 0) << "ground cut at " << x << " m, more than 20 m from a portal";
+    ASSERT_TRUE(extent.count(p));
+    // A cell with a corner in the bore is cut: the cell's width beyond the vertex, covered too.
+    const double cell = w.env().params().terrain.spacing_m;
+    EXPECT_GT(lateral - cell, extent[p].first) << "ground cut beside the tube at " << x << " m";
+    EXPECT_LT(lateral + cell, extent[p].second) << "ground cut beside the tube at " << x << " m";
+  }
+}
+
 TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
   const World& w = defaultWorld();
   const environment::AssetParams& A = w.env().params().assets;

@@ -215,15 +215,16 @@ std::vector<std::array<Eigen::Vector3d, 3>> trianglesNear(const World& w, const 
   return out;
 }
 
-// The heights at which the triangles' surfaces pass over plan point p.
+// The heights at which the triangles' surfaces pass over plan point p; with `facing` −1 only
+// those facing down (counter-clockwise seen from below), +1 only those facing up.
 std::vector<double> heightsOver(const std::vector<std::array<Eigen::Vector3d, 3>>& triangles,
-                                const Eigen::Vector2d& p) {
+                                const Eigen::Vector2d& p, int facing = 0) {
   std::vector<double> out;
   for (const auto& v : triangles) {
     const Eigen::Vector2d a = v[0].head<2>(), b = v[1].head<2>(), c = v[2].head<2>();
     const double area = (b - a).x() * (c - a).y() - (c - a).x() * (b - a).y();
-    if (area == 0.0)
-      continue;  // a vertical face
+    if (area == 0.0 || area * facing < 0.0)
+      continue;  // a vertical face, or one facing the other way
     const double u = ((c - b).x() * (p - b).y() - (c - b).y() * (p - b).x()) / area;
     const double t = ((a - c).x() * (p - c).y() - (a - c).y() * (p - c).x()) / area;
     if (u >= 0.0 && t >= 0.0 && u + t <= 1.0)
@@ -283,16 +284,17 @@ TEST(Terrain, TheTunnelPortalsAreOpenAndTheTubesClosed) {
                 << " m across, " << along * 40.0 - 10.0 << " m inside the portal at " << portal;
           }
         }
-      // Wherever the tube's roof is overhead, its floor is underfoot.
+      // Wherever the tube's roof is overhead, its floor is underfoot (the lining's roof, facing
+      // down into the tube: the shell over the first metres faces up, out of it).
       for (const double along : {5.0, 20.0})
         for (double lateral = -11.9; lateral <= 12.0; lateral += 0.25) {  // not on a wall
           const track::TrackFrame f = w.railway().frame(0, portal + inward * along);
           const Eigen::Vector2d p = f.position.head<2>() + lateral * f.left.head<2>().normalized();
           bool roof = false, floor = false;
-          for (const double z : heightsOver(tube, p)) {
+          for (const double z : heightsOver(tube, p, -1))
             roof = roof || z > f.position.z() + 1.0;
+          for (const double z : heightsOver(tube, p))
             floor = floor || std::abs(z - (f.position.z() - P.formation_depth_m)) < 0.05;
-          }
           if (!roof)
             continue;
           ++floor_samples;

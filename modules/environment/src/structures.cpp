@@ -108,6 +108,16 @@ void addStructures(TileContext& ctx) {
         // extrude() orients closed profiles outward; the lining is open, so the order decides.
         extrude(*mesh, ctx, run, lining, false);
       }
+      // Behind each portal the ground is cut away over the bore, within tunnel_half_width_m of
+      // the tracks and a cell more, wider than the tube: a shell as wide as the portal's ring
+      // covers the tube there, so that no line of sight from above passes between the tube and
+      // the cut ground (the sky showed through). 20 m in: the cut ends within about 11 m.
+      const double cover = std::min(20.0, 0.5 * (s.chainage_end_m - s.chainage_begin_m));
+      const auto shell = horseshoe(centre, r + 4.5, spring, -formation - 3.0, kTunnelArc);
+      for (const auto& [x0, x1] : {std::pair(s.chainage_begin_m, s.chainage_begin_m + cover),
+                                   std::pair(s.chainage_end_m - cover, s.chainage_end_m)})
+        for (const auto& run : ownedRuns(ctx, 0, x0, x1))
+          extrude(*mesh, ctx, run, shell, false);  // counter-clockwise: facing out
       // Portal rings at the ends this tile owns: between the lining and a larger horseshoe.
       for (const double x : {s.chainage_begin_m, s.chainage_end_m}) {
         const track::TrackFrame f = railway.frame(0, x);
