@@ -44,12 +44,14 @@ constexpr void (*kSections[])(Schema&) = {
         if (const double least = a.contact_height_m + 1.1 + 0.2 + 0.5;
             a.catenary && t.tunnel_crown_m < least - 1e-9)
           problems.push_back(
-              {"terrain.tunnel_crown_m",
-               fmt::format("is {:g} m but the catenary needs at least {:g} m in a tunnel "
-                           "(assets.contact_height_m {:g} m, 1.1 m of system height, 0.2 m "
-                           "under the lining, 0.5 m for a track off the tube's centre); or set "
-                           "assets.catenary false",
-                           t.tunnel_crown_m, least, a.contact_height_m)});
+              {terrainSection().path(&terrain::TerrainParams::tunnel_crown_m),
+               fmt::format("is {:g} m but the catenary needs at least {:g} m in a tunnel ({} {:g} "
+                           "m, 1.1 m of system height, 0.2 m under the lining, 0.5 m for a track "
+                           "off the tube's centre); or set {} false",
+                           t.tunnel_crown_m, least,
+                           assetsSection().path(&environment::AssetParams::contact_height_m),
+                           a.contact_height_m,
+                           assetsSection().path(&environment::AssetParams::catenary))});
       });
     },
     [](Schema& s) { objectsSection().addTo(s); },
