@@ -3,6 +3,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -58,6 +60,41 @@ inline std::vector<Segment> allSegments(const World& w) {
            w.railway().typeAt(t.id, 0.5 * (line.distance_m[k] + line.distance_m[k + 1]))});
   }
   return out;
+}
+
+// Where a point lies against `segments`, brute force, by the nearest: the distance along them to
+// its foot (their plan lengths summed from the first: a track's chainage, near enough away from
+// its start, for one track's segments in order), its plan distance from it signed + left, and
+// its height above it.
+inline std::function<std::array<double, 3>(const Eigen::Vector3d&)> nearestOn(
+    std::vector<Segment> segments) {
+  return [segments = std::move(segments)](const Eigen::Vector3d& p) {
+    double best = std::numeric_limits<double>::infinity(), x = 0.0, lateral = 0.0, up = 0.0;
+    double start = 0.0;
+    for (const Segment& s : segments) {
+      const Eigen::Vector2d u = (s.b - s.a).head<2>();
+      const double t = std::clamp((p - s.a).head<2>().dot(u) / u.squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d off = p.head<2>() - s.a.head<2>() - t * u;
+      if (off.norm() < best) {
+        best = off.norm();
+        x = start + t * u.norm();
+        lateral = u.x() * off.y() - u.y() * off.x() >= 0.0 ? best : -best;
+        up = p.z() - (s.a.z() + t * (s.b.z() - s.a.z()));
+      }
+      start += u.norm();
+    }
+    return std::array<double, 3>{x, lateral, up};
+  };
+}
+
+// nearestOn() the main track: a point's main chainage, lateral offset and height above it.
+inline std::function<std::array<double, 3>(const Eigen::Vector3d&)> alongTheMainTrack(
+    const World& w) {
+  std::vector<Segment> main;
+  for (const Segment& s : allSegments(w))
+    if (s.track == 0)
+      main.push_back(s);
+  return nearestOn(std::move(main));
 }
 
 struct Nearest {
