@@ -206,7 +206,7 @@ std::pair<double, double> outermostOver(const track::Layout& layout, double x0, 
   return {left, right};
 }
 
-// the floor, points counter-clockwise seen along the track (inside facing in: callers flip).
+// Counter-clockwise seen along the track: inside facing out, so callers flip it for a lining.
 std::vector<Eigen::Vector2d> horseshoe(double centre, double r, double spring, double floor,
                                        int segments) {
   std::vector<Eigen::Vector2d> out;

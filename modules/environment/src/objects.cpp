@@ -229,7 +229,7 @@ std::vector<PlacedObject> placeObjects(const Environment& env, scene::TileIndex 
       // Lowest ground under the footprint's centre and four rim points, so nothing floats: from
       // the tile's height grid, or beyond it from the grid cell there as the next tile has it
       // (clamped to the grid's edge, an object by a tile's border stood on the wrong ground, up
-      // to 0.25 m above the lowest).
+      // to 0.37 m above the lowest).
       z = std::numeric_limits<double>::infinity();
       const double extent = (heights->n - 1) * heights->spacing_m;
       for (const auto& d :
