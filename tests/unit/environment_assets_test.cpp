@@ -228,8 +228,9 @@ TEST(Assets, FenceStrandsRunFromPostToPostAcrossEveryTileBorder) {
 }
 
 TEST(Objects, StandOnTheLowestGroundUnderTheirFootprintWhereverATilesBorderFalls) {
-  // Each object's foot is the lowest ground under its centre and four rim points, from the
-  // height grid of the tile each point lies in. Near a tile's border some rim points lie beyond
+  // Each object's foot is the lowest ground under its centre and four rim points (of its foot:
+  // ObjectKind::foot_share of its footprint), from the height grid of the tile each point lies
+  // in. Near a tile's border some rim points lie beyond
   // the object's own tile: they were clamped to its edge, and trees of the default route stood
   // up to 0.25 m above the lowest ground (one at (3043.4, 1.0)). Over km 2.5-3.6 of the route,
   // against each point's own tile's grid.
@@ -259,9 +260,10 @@ TEST(Objects, StandOnTheLowestGroundUnderTheirFootprintWhereverATilesBorderFalls
     for (const auto& o : w.env().objects(i)) {
       double lowest = std::numeric_limits<double>::infinity();
       bool border = false;
+      const double foot = o.radius_m * environment::objectKinds()[o.kind].foot_share;
       for (const auto& d :
-           {Eigen::Vector2d(0, 0), Eigen::Vector2d(o.radius_m, 0), Eigen::Vector2d(-o.radius_m, 0),
-            Eigen::Vector2d(0, o.radius_m), Eigen::Vector2d(0, -o.radius_m)}) {
+           {Eigen::Vector2d(0, 0), Eigen::Vector2d(foot, 0), Eigen::Vector2d(-foot, 0),
+            Eigen::Vector2d(0, foot), Eigen::Vector2d(0, -foot)}) {
         const Eigen::Vector2d p = o.position.head<2>() + d;
         border = border || !(w.env().grid().tileAt(p.x(), p.y()) == i);
         lowest = std::min(lowest, ground(p));
@@ -274,6 +276,23 @@ TEST(Objects, StandOnTheLowestGroundUnderTheirFootprintWhereverATilesBorderFalls
   EXPECT_GT(checked, 300u);
   EXPECT_GT(by_a_border, 20u);
   EXPECT_LT(worst, 1e-6);
+  // A tree stands on the ground under its trunk, not the lowest under its crown: on the slopes
+  // by the first tunnel's portals (km 0-0.8) no trunk's foot lies more than half a metre under
+  // the ground at its centre (they were sunk up to 2.2 m on the default route).
+  double sunk = 0.0;
+  std::size_t trees = 0;
+  for (const auto& i : w.env().tiles()) {
+    const Eigen::Vector2d lo = w.env().grid().corner(i);
+    if (lo.x() < 0.0 || lo.x() > 800.0)
+      continue;
+    for (const auto& o : w.env().objects(i))
+      if (environment::objectKinds()[o.kind].name == "trees") {
+        sunk = std::max(sunk, ground(o.position.head<2>()) - o.position.z());
+        ++trees;
+      }
+  }
+  EXPECT_GT(trees, 100u);
+  EXPECT_LT(sunk, 0.5);
   // A point's grid height is its tile's, wherever the point is asked from.
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(3043.4, 1.0), Eigen::Vector2d(3087.25, -30.5),
                                    Eigen::Vector2d(2944.0, 12.125)})

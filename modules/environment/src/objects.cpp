@@ -22,6 +22,10 @@ std::vector<float> jitter(std::uint64_t seed, std::string_view stream, int varia
   return out;
 }
 
+// A tree's trunk radius at its foot, in footprint radii: what it stands on (its crown, all of the
+// footprint, stood it on the lowest ground under it, sunk up to 2.2 m on the slopes).
+constexpr double kTrunkShare = 0.12;
+
 // Trees: odd variants broadleaf (trunk and a lumpy round crown), even ones conifers (trunk and a
 // cone); footprint radius 1, height about 4–6.
 Mesh tree(std::uint64_t seed, int variant) {
@@ -30,7 +34,8 @@ Mesh tree(std::uint64_t seed, int variant) {
   const auto u = random.uniform4(static_cast<std::uint64_t>(variant));
   const float height = 4.0f + 2.0f * static_cast<float>(u[0]);
   m.beginPart(scene::cls::kTrunk, scene::mat::kBark);
-  scene::addCylinder(m, {0, 0, -0.2f}, {0, 0, 0.45f * height}, 0.12f, 0.08f, 8);
+  scene::addCylinder(m, {0, 0, -0.2f}, {0, 0, 0.45f * height}, static_cast<float>(kTrunkShare),
+                     0.08f, 8);
   if (variant % 2 == 1) {
     m.beginPart(scene::cls::kTree, scene::mat::kLeaves);
     const auto j = jitter(seed, "objects/tree-crown", variant, scene::blobVertexCount(2), 0.15f);
@@ -96,7 +101,7 @@ Mesh building(std::uint64_t seed, int variant) {
 // The registry: name, description, defaults (density per hectare, nearest track centre to the
 // footprint's edge), footprint radii, variants, prototype.
 const ObjectKind kKinds[] = {
-    {"trees", "Trees (broadleaf and conifer)", {12.0, 6.0}, 1.5, 3.5, 8, tree},
+    {"trees", "Trees (broadleaf and conifer)", {12.0, 6.0}, 1.5, 3.5, 8, tree, kTrunkShare},
     {"bushes", "Bushes", {10.0, 6.0}, 0.6, 1.5, 6, bush},
     {"rocks", "Rocks and boulders", {3.0, 6.0}, 0.3, 1.2, 6, rock},
     {"buildings", "Houses and sheds", {0.4, 15.0}, 4.0, 9.0, 6, building},
@@ -226,19 +231,20 @@ std::vector<PlacedObject> placeObjects(const Environment& env, scene::TileIndex 
     o.yaw_rad = 2.0 * std::numbers::pi * v[2];
     double z = 0.0;
     if (heights) {
-      // Lowest ground under the footprint's centre and four rim points, so nothing floats: from
-      // the tile's height grid, or beyond it from the grid cell there as the next tile has it
-      // (clamped to the grid's edge, an object by a tile's border stood on the wrong ground, up
-      // to 0.37 m above the lowest).
+      // Lowest ground under the foot's centre and four rim points (ObjectKind::foot_share of the
+      // footprint), so nothing floats: from the tile's height grid, or beyond it from the grid
+      // cell there as the next tile has it (clamped to the grid's edge, an object by a tile's
+      // border stood on the wrong ground, up to 0.37 m above the lowest).
       z = std::numeric_limits<double>::infinity();
       const double extent = (heights->n - 1) * heights->spacing_m;
+      const double foot = c.radius * kinds[c.kind].foot_share;
       for (const auto& d :
-           {Eigen::Vector2d(0, 0), Eigen::Vector2d(c.radius, 0), Eigen::Vector2d(-c.radius, 0),
-            Eigen::Vector2d(0, c.radius), Eigen::Vector2d(0, -c.radius)}) {
-        const Eigen::Vector2d at = c.p + d, in = at - heights->origin;
+           {Eigen::Vector2d(0, 0), Eigen::Vector2d(foot, 0), Eigen::Vector2d(-foot, 0),
+            Eigen::Vector2d(0, foot), Eigen::Vector2d(0, -foot)}) {
+        const Eigen::Vector2d point = c.p + d, in = point - heights->origin;
         const bool inside = in.minCoeff() >= 0.0 && in.maxCoeff() <= extent;
-        z = std::min(
-            z, inside ? terrainHeight(*heights, at) : env.terrain().gridHeightAt(at.x(), at.y()));
+        z = std::min(z, inside ? terrainHeight(*heights, point)
+                               : env.terrain().gridHeightAt(point.x(), point.y()));
       }
     }
     o.position = {c.p.x(), c.p.y(), z};

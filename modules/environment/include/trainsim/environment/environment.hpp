@@ -71,6 +71,9 @@ struct ObjectKind {
   /// Builds prototype `variant` with footprint radius 1 m, its foot at the origin; instances
   /// scale it by their radius.
   scene::Mesh (*prototype)(std::uint64_t seed, int variant);
+  /// The share of the footprint radius it stands on: its foot is the lowest ground under its
+  /// centre and four points that far out (a tree's trunk; all of it for the others).
+  double foot_share = 1.0;
 };
 std::span<const ObjectKind> objectKinds();
 
