@@ -98,7 +98,6 @@ void addStructures(TileContext& ctx) {
       }
     } else if (s.type == track::BlockType::kTunnel) {
       // One tube around all tracks, crown tunnel_crown_m above the rails, lining facing in.
-      kind = kTunnel;
       mesh->beginPart(scene::cls::kTunnel, scene::mat::kConcrete);
       const auto [centre, r, spring] = tunnelTube(layout, T, s.chainage_begin_m, s.chainage_end_m);
       auto lining = horseshoe(centre, r, spring, -formation, kTunnelArc);
