@@ -119,8 +119,10 @@ for v in range(h):
 assert checked > w * h // 4, checked
 PY
 # Signals show their aspect: instances.csv names it for every signal (never stop on the train's
-# own track 0) and lists every signal as class signal, and where a signal is large in the night picture, its brightest pixel has the
-# aspect's colour (the lit lamp, overexposed at ISO 400 as real ones are).
+# own track 0) and lists every signal as class signal, and where a signal facing the train (not
+# one of the double track's own direction, index + 2^32, whose back it sees) is large in the
+# night picture, its brightest pixel has the aspect's colour (the lit lamp, overexposed at
+# ISO 400 as real ones are).
 python3 - "$WORK/t1/sequences/00" <<'PY' && pass "signal aspects in instances.csv and in the pictures" || fail "signal aspects"
 import os, sys
 sys.path.insert(0, os.environ.get("TESTS_DIR", "."))
@@ -128,7 +130,7 @@ from kitti_read import read_png
 seq = sys.argv[1]
 lines = open(os.path.join(seq, "instances.csv")).read().splitlines()
 assert lines[0] == "instance,scene_instance,class,track,state", lines[0]
-aspects = {}
+aspects, facing = {}, set()
 for line in lines[1:]:
     instance, scene, cls, track, state = line.split(",")
     scene = int(scene)
@@ -138,6 +140,8 @@ for line in lines[1:]:
         assert not (state == "stop" and (scene >> 44) & 0xFFF == 0), line  # the train's track
         assert cls == "signal", line  # also where its post was seen before its head
         aspects[int(instance)] = state
+        if scene & ((1 << 36) - 1) < 1 << 32:
+            facing.add(int(instance))
 assert len(set(aspects.values())) == 3, aspects
 checked = {}
 frames = sorted(os.listdir(os.path.join(seq, "instance_2")))
@@ -146,7 +150,7 @@ for frame in frames[::3]:
     count = {}
     for row in ids:
         for i in row:
-            if i in aspects:
+            if i in facing:
                 count[i] = count.get(i, 0) + 1
     large = [i for i, n in count.items() if n >= 150]
     if not large:

@@ -580,6 +580,46 @@ TEST(Assets, SignalsShowOneLitAspectThatTheTrainsOwnTrackNeverSetsAtStop) {
   }
 }
 
+TEST(Assets, EachSignalFacesTheTrainsItGoverns) {
+  // Left-hand running: the main track's signals stand on its left 20 m before each boundary
+  // between blocks, their lamps facing the train as it comes. The double track is signalled
+  // both ways on its right: its own direction's signals (index + 2^32) govern the trains running
+  // against the main chainage, so they stand 20 m past the boundary and the train sees their
+  // backs; its wrong-line signals stand 20 m before it and face the train.
+  const World& w = defaultWorld();
+  const auto along = alongTheMainTrack(w);
+  const auto& blocks = w.railway().route().blocks;
+  std::map<std::pair<int, bool>, int> seen;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset || asset->kind != 12)
+        continue;
+      const bool against = asset->index >= (std::int64_t{1} << 32);
+      const auto [x, lateral, up] = along(o.position);
+      const Eigen::Vector3d tangent = w.railway().frame(0, x).tangent;
+      // The head's lamps are on its −x side (the prototype's face): x runs the way its trains go.
+      const double facing = o.linear.col(0).cast<double>().normalized().dot(tangent);
+      double boundary = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 1; i < blocks.size(); ++i)
+        if (std::abs(blocks[i].chainage_begin_m - x) < std::abs(boundary - x))
+          boundary = blocks[i].chainage_begin_m;
+      if (against) {
+        EXPECT_LT(facing, -0.99) << x;
+        EXPECT_NEAR(x, boundary + 20.0, 0.5);
+      } else {
+        EXPECT_GT(facing, 0.99) << x;
+        EXPECT_NEAR(x, boundary - 20.0, 0.5);
+      }
+      EXPECT_EQ(lateral > 0.0, asset->track_id == 0) << x;
+      ++seen[{asset->track_id, against}];
+    }
+  EXPECT_GE((seen[{0, false}]), 10);
+  EXPECT_EQ((seen[{0, true}]), 0);
+  EXPECT_GE((seen[{1, false}]), 10);
+  EXPECT_GE((seen[{1, true}]), 10);
+}
+
 TEST(Assets, RailsCatenaryAndSignalsKnowTheirTrackAndWhatStandsByTheLineDoesNot) {
   // trackOf: a rail, a mast, a wire or a signal is its layout track's (a mast or a signal stands
   // nearer to it than to the other of the main and double track; beyond the outermost track,

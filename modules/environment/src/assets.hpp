@@ -26,6 +26,10 @@ enum AssetKind : int {
   kSignal = 12
 };
 
+/// Added to a signal's index (its block's id) when it governs the trains running against the
+/// main chainage.
+inline constexpr std::int64_t kSignalAgainst = std::int64_t{1} << 32;
+
 /// A point of a track's polyline with its frame (world, shifted).
 struct FramePoint {
   Eigen::Vector3d position;

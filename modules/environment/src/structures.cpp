@@ -269,25 +269,37 @@ void addFencesAndSignals(TileContext& ctx) {
             scene::Object::place(posts, ctx.origin, Eigen::Matrix3f::Identity(), instance));
     }
   }
-  // Signals at the start of every main block after the first: on the left of the main track,
-  // and for the double track on its right, facing the train.
+  // Signals at every boundary between main blocks, 20 m before it for the trains they govern.
+  // Lines run on the left: the main track's stand on its left and face the train as it comes.
+  // The double track is signalled both ways, its signals on its right: for its own direction
+  // (the trains running against the main chainage) 20 m past the boundary, so the train sees
+  // their backs, and for wrong-line running in the train's direction 20 m before it, facing the
+  // train. A signal's index is its block's id, plus kSignalAgainst for one of the other way.
   const bool has_double =
       layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  struct Placing {
+    int track_id;
+    bool against;  // governs the trains running against the main chainage
+  };
   for (std::size_t i = 1; i < blocks.size(); ++i) {
-    const double x = blocks[i].chainage_begin_m - 20.0;
-    if (x < 0.0 || !inNear(x))
-      continue;
-    const auto [l, r] = outermostOffsets(layout, x);
-    for (const int track_id : {0, 1}) {
+    for (const auto [track_id, against] :
+         {Placing{0, false}, Placing{1, false}, Placing{1, true}}) {
       if (track_id == 1 && !has_double)
         continue;
+      const double x = blocks[i].chainage_begin_m + (against ? 20.0 : -20.0);
+      if (x < 0.0 || x > blocks.back().chainage_end_m || !inNear(x))
+        continue;
+      const auto [l, r] = outermostOffsets(layout, x);
       const track::TrackFrame f = railway.frame(0, x);
-      const Eigen::Matrix3d axes = ctx.upright(f.tangent);  // the signal faces along the track
+      const Eigen::Matrix3d along = ctx.upright(f.tangent);
       const double lateral = track_id == 0 ? l + A.signal_offset_m : r - A.signal_offset_m;
-      const Eigen::Vector3d p = f.position + lateral * axes.col(1) - formation * axes.col(2);
+      const Eigen::Vector3d p = f.position + lateral * along.col(1) - formation * along.col(2);
       if (!ctx.owns(p))
         continue;
-      const scene::InstanceId instance = scene::trackAssetInstance(track_id, kSignal, blocks[i].id);
+      // The head's face is its −x side: x runs the way the trains it governs go.
+      const Eigen::Matrix3d axes = against ? ctx.upright(-f.tangent) : along;
+      const scene::InstanceId instance = scene::trackAssetInstance(
+          track_id, kSignal, blocks[i].id + (against ? kSignalAgainst : 0));
       ctx.tile.objects.push_back(
           scene::Object::place(ctx.env.signalPrototype(*ctx.env.signalAspect(instance)), p,
                                axes.cast<float>(), instance));
