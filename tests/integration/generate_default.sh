@@ -269,6 +269,19 @@ PY
 expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top plane from 0.35 m along its axis, nearer than near_m" "a near plane cutting the track is flagged"
 grep -q "cameras\[[012]\]: the camera sees the rail-top plane" "$WORK/err" && fail "a windscreen camera was flagged for its near plane" ||
   pass "windscreen cameras are not flagged for their near plane"
+# LiDAR ranges beyond the device's datasheet, either way, are said once when the run starts.
+cat >"$WORK/ranges.json" <<'JSON'
+{"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 300}]},
+ "trajectory": {"static_only": true, "standstill_start_s": 1},
+ "dataset": {"frame_period_ns": 1000000000},
+ "sensors": {"lidars": [{"model": "vlp16", "period_ns": 1000000000, "columns": 90, "range_min_m": 0.5, "range_max_m": 150},
+   {"model": "vlp16", "period_ns": 1000000000, "columns": 90, "range_min_m": 0.9, "range_max_m": 100}]}}
+JSON
+expect_exit 0 "generate with ranges beyond the datasheet" -- "$TRAINSIM" generate "$WORK/ranges.json" --out "$WORK/ranges" --progress none
+expect_contains "$WORK/err" "sensors.lidars[0]: range_min_m 0.5 m is below the vlp16's 0.9 m" "a range_min_m below the device's is said"
+expect_contains "$WORK/err" "sensors.lidars[0]: range_max_m 150 m is beyond the vlp16's 100 m" "a range_max_m beyond the device's is said"
+grep -qE "sensors.lidars\[1\]: range_(min|max)_m" "$WORK/err" && fail "the device's own ranges were flagged" ||
+  pass "the device's own ranges are not flagged"
 # Daylight does not reach far into a tunnel: at noon, the pictures 100 m or more inside an 800 m
 # tunnel are much darker than those outside it (the headlights light the tube). And it is the
 # surfaces that are lit or not, not the whole picture: from outside, the bore seen through the

@@ -30,6 +30,8 @@ const std::vector<ScanPattern>& presets() {
       s.range_max_m = p.at("range_max_m").get<double>();
       s.range_sigma_m = p.at("range_sigma_m").get<double>();
       s.firing_period_s = p.at("firing_period_us").get<double>() * 1e-6;
+      s.shortest_column_s =
+          p.value("shortest_column_us", p.at("firing_period_us").get<double>()) * 1e-6;
       for (const auto& l : p.at("lasers"))
         s.lasers.push_back(
             {l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>() * 1e-6, 0});

@@ -160,7 +160,10 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
         .range(1, 40);
     b.integer("columns", &C::columns, "",
               "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
-              "HDL-64E at 10 Hz), 2048 for uniform")
+              "HDL-64E and 1024 for the OS1-64 at 10 Hz), 2048 for uniform. At most as many as "
+              "the device fires: a Velodyne's whole firing sequence a column (1808 for the "
+              "VLP-16 at 10 Hz), an OS1-64 20 480 columns a second (its 2048 x 10 Hz and "
+              "1024 x 20 Hz modes)")
         .range(0, 65535);
     b.number("horizontal_fov_deg", &C::horizontal_fov_rad, units::kDegree,
              "Azimuth window centred forward: the head spins the whole revolution and fires only "
@@ -254,17 +257,17 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                        fmt::format("leaves no range: shortest {} m, longest {} m (0 takes the "
                                    "device's own: {} ... {} m)",
                                    near, far, device.range_min_m, device.range_max_m)});
-      // A column must hold the device's whole firing sequence.
-      if (c.columns > 0 && device.firing_period_s > 0.0 &&
-          1.0 / (c.columns * c.rotation_hz) < device.firing_period_s * (1.0 - 1e-9))
+      // A column can be no shorter than the device fires one (a Velodyne's firing sequence).
+      if (c.columns > 0 && device.shortest_column_s > 0.0 &&
+          1.0 / (c.columns * c.rotation_hz) < device.shortest_column_s * (1.0 - 1e-9))
         out.push_back(
             {at(c.columns),
              fmt::format("is more than the {} can fire at {} Hz: {} columns leave {:.2f} us a "
-                         "column, shorter than its {:.3f} us firing sequence (at most {})",
+                         "column, shorter than the {:.3f} us it needs for one (at most {})",
                          device.name, c.rotation_hz, c.columns, 1e6 / (c.columns * c.rotation_hz),
-                         device.firing_period_s * 1e6,
+                         device.shortest_column_s * 1e6,
                          static_cast<int>(std::floor(
-                             1.0 / (device.firing_period_s * c.rotation_hz) * (1.0 + 1e-9))))});
+                             1.0 / (device.shortest_column_s * c.rotation_hz) * (1.0 + 1e-9))))});
       if (device.columns < 1)
         out.push_back(
             {at(c.horizontal_fov_rad),
@@ -367,6 +370,12 @@ void warnAboutWastedSettings(const LidarConfig& c, const std::string& path) {
         fmt::format("{}: range_max_m {} m is beyond the {}'s {} m (its datasheet's range): "
                     "returns that far are more than the device gives",
                     path, c.range_max_m, presetName(c.model), device));
+  if (const double device = devicePattern(c).range_min_m;
+      c.model != LidarModel::kUniform && c.range_min_m > 0.0 && c.range_min_m < device)
+    logWarn(
+        fmt::format("{}: range_min_m {} m is below the {}'s {} m (its datasheet's shortest "
+                    "range): returns that near are more than the device gives",
+                    path, c.range_min_m, presetName(c.model), device));
 }
 
 // The sensor's pose over one scan: exact at knots kKnotNs apart, between them cubic Hermite in

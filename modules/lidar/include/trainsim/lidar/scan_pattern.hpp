@@ -34,9 +34,13 @@ struct ScanPattern {
   double rotation_hz = 10.0;
   double range_min_m = 0.9, range_max_m = 120.0;
   double range_sigma_m = 0.02;  ///< the datasheet's range accuracy, 1 σ
-  /// A preset's whole firing sequence (the shortest column it can fire); 0 for uniform, whose
-  /// lasers of a column fire together.
+  /// A preset's column period in its default mode (a Velodyne's whole firing sequence), which
+  /// gives its columns at a spin rate when none are asked for; 0 for uniform, whose lasers of a
+  /// column fire together.
   double firing_period_s = 0.0;
+  /// The shortest column the device can fire (a Velodyne's firing sequence; an Ouster's fastest
+  /// mode, 2048 columns at 10 Hz); 0 for uniform (no limit).
+  double shortest_column_s = 0.0;
 
   int revolutionColumns() const { return revolution_columns > 0 ? revolution_columns : columns; }
   /// Whether the scan fires the whole revolution (no azimuth window).
