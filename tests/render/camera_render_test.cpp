@@ -90,6 +90,35 @@ TEST(CameraDepth, NothingBeyondTheFarPlaneHasDepth) {
     ASSERT_EQ(c, scene::cls::kSky);
 }
 
+// A wall standing at the far plane, turned so its depth runs from 1 mm short of it to 1 mm past
+// it across the picture: the depth image and the ids agree, pixel by pixel, on what is drawn (a
+// pixel without depth is sky with no instance, one with depth is not sky), though a fragment
+// within a rounding of the far plane leaves the depth buffer at its clear value.
+TEST(CameraDepth, ThePicturesAgreePixelByPixelOnWhatIsDrawnAtTheFarPlane) {
+  const Eigen::Vector3d O(0.0, 0.0, 0.0);
+  camera::RendererOptions o;
+  o.intrinsics = smallCamera();
+  int disagree = 0, drawn = 0, nothing = 0;
+  for (const double far_m : {60.0, 63.7, 88.9}) {
+    o.far_m = far_m;
+    // Half the picture's width at the wall is far · cx / fx; the wall's depth moves 1 mm there.
+    const double half_width = far_m * o.intrinsics.cx / o.intrinsics.fx;
+    const Eigen::Vector3d n = Eigen::Vector3d(-1.0, -1e-3 / half_width, 0.0).normalized();
+    const auto tile = makeTile(O, {square({far_m, 0.0, 2.0}, n, 200.0)});
+    const camera::CameraImages img =
+        camera::Renderer(o).render({{tile}}, lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.0)), {});
+    for (std::size_t i = 0; i < img.depth.size(); ++i) {
+      const bool sky = img.semantic[i] == scene::cls::kSky;
+      disagree += (img.depth[i] == 0.0f) != sky || (sky && img.object[i] != 0);
+      drawn += !sky;
+      nothing += sky;
+    }
+  }
+  EXPECT_GT(drawn, 10000);    // the wall's near side is drawn in every picture
+  EXPECT_GT(nothing, 10000);  // and its far side is not
+  EXPECT_EQ(disagree, 0);
+}
+
 // Signals (a pole with a head: two classes in one shared mesh) at known places, a ground plane
 // and a wire.
 struct SignalScene {

@@ -587,18 +587,25 @@ struct Renderer::Impl {
       gl->window->Render();
       vtkNew<vtkUnsignedCharArray> ids;
       gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, ids, 0);
+      // What the depth buffer holds at the far plane is nothing drawn, as the depth image reads
+      // it (readDepth): a fragment within a rounding of the far plane is drawn into the ids but
+      // leaves the depth buffer at 1, and would be a class without a depth.
+      vtkNew<vtkFloatArray> z;
+      gl->window->GetZbufferData(0, 0, k.width - 1, k.height - 1, z);
       if (o.passes.semantic)
         out.semantic.resize(pixels);
       if (o.passes.instance)
         out.object.resize(pixels);
       for (int y = 0; y < k.height; ++y)
         for (int x = 0; x < k.width; ++x) {
-          const unsigned char* c = ids->GetPointer(3 * (static_cast<vtkIdType>(y) * k.width + x));
+          const vtkIdType at = static_cast<vtkIdType>(y) * k.width + x;
+          const unsigned char* c = ids->GetPointer(3 * at);
+          const bool drawn = z->GetValue(at) < 1.0f;
           const std::size_t i = static_cast<std::size_t>(k.height - 1 - y) * k.width + x;
           if (o.passes.semantic)
-            out.semantic[i] = c[0];
+            out.semantic[i] = drawn ? c[0] : scene::cls::kSky;
           if (o.passes.instance)
-            out.object[i] = static_cast<std::uint16_t>(c[1] << 8 | c[2]);
+            out.object[i] = drawn ? static_cast<std::uint16_t>(c[1] << 8 | c[2]) : 0;
         }
     }
     show({});
