@@ -34,26 +34,32 @@ std::string fileBytes(const fs::path& p) {
 }
 
 // By day the fog is light grey; at night it is lit as the scene is, dark (its colour read from
-// the sky's pixels, pure fog), and the same blend holds.
-class CameraFog : public ::testing::TestWithParam<const char*> {};
+// the sky's pixels, all fog in a dense fog), and the same blend holds. A dense ground fog veils
+// the sky wholly; a thin haze leaves the sky's colour above the horizon.
+struct Fog {
+  const char* daytime;
+  double visibility_m, height_m;
+};
+class CameraFog : public ::testing::TestWithParam<Fog> {};
 
-TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLight) {
-  constexpr double kVisibility = 150.0;
-  const bool night = std::string(GetParam()) == "night";
+TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLightThroughALayerThinningWithHeight) {
+  const Fog f = GetParam();
+  const bool night = std::string(f.daytime) == "night";
   const scenario::Json camera = {{"width", 200},
                                  {"height", 64},
                                  {"period_ns", 1'000'000'000},
                                  {"depth_float", true},
-                                 {"daytime", GetParam()}};
+                                 {"daytime", f.daytime}};
   scenario::Json foggy = camera;
-  foggy["fog_visibility_m"] = kVisibility;
+  foggy["fog_visibility_m"] = f.visibility_m;
+  foggy["fog_height_m"] = f.height_m;
   const scenario::Json input = {
       {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
       {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
       {"dataset", {{"frame_period_ns", 1'000'000'000}}},
       {"sensors", {{"cameras", {camera, foggy}}}}};
-  const fs::path out =
-      fs::temp_directory_path() / fmt::format("trainsim_fog_{}_{}", GetParam(), ::getpid());
+  const fs::path out = fs::temp_directory_path() /
+                       fmt::format("trainsim_fog_{}_{}_{}", f.daytime, f.visibility_m, ::getpid());
   fs::remove_all(out);
   GenerateOptions options;
   options.out = out;
@@ -102,16 +108,40 @@ TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLight) {
   fs::remove_all(out);
   ASSERT_GT(fx, 0.0);
   ASSERT_EQ(clear.samples8.size(), fog.samples8.size());
-  // The fog's colour: by day the renderer's light grey, at night that of the sky's pixels (no
-  // range: all fog), which must be one dark colour.
+  // The level camera's rays, in its axes (x right, y down, z ahead), and how much of each
+  // pixel's light the fog keeps: e^(−β L (1 − e^(−a)) / a), a = L s / H, over a range L rising
+  // at s (sine of the elevation), e^(−β H / s) to the sky, none below the horizon.
+  const double beta = 3.912 / f.visibility_m;
+  const auto keepAt = [&](int u, int v) {
+    const double z = depthAt(u, v);  // along the optical axis; 0: nothing drawn (sky)
+    const double x = (u - cx) / fx, y = (v - cy) / fy;
+    const double norm = std::sqrt(1 + x * x + y * y), s = -y / norm;
+    if (z > 0.0) {
+      const double range = z * norm, a = range * s / f.height_m;
+      return std::exp(-beta * range * (a > 1e-9 ? (1.0 - std::exp(-a)) / a : 1.0));
+    }
+    return s > 0.0 ? std::exp(-beta * f.height_m / s) : 0.0;
+  };
+  // The fog's colour: by day the renderer's light grey, at night that of the sky's pixels where
+  // the fog keeps nothing of the sky (a dense fog's), which must be one dark colour, no brighter
+  // than twice the clear night sky.
   std::array<std::uint8_t, 3> kFog = {200, 204, 208};
+  const auto luminance = [](const std::uint8_t* c) {
+    return 0.2126 * camera::Srgb::toLinear(c[0]) + 0.7152 * camera::Srgb::toLinear(c[1]) +
+           0.0722 * camera::Srgb::toLinear(c[2]);
+  };
   if (night) {
     bool first = true;
+    double clear_sky = 0.0;
     for (int v = 0; v < clear.height; ++v)
       for (int u = 0; u < clear.width; ++u) {
         if (depthAt(u, v) > 0.0)
           continue;
         const std::size_t i = static_cast<std::size_t>(v) * clear.width + u;
+        clear_sky = std::max(
+            clear_sky, luminance(reinterpret_cast<const std::uint8_t*>(&clear.samples8[3 * i])));
+        if (keepAt(u, v) > 1e-4)
+          continue;
         for (std::size_t ch = 0; ch < 3; ++ch) {
           const auto c = static_cast<std::uint8_t>(fog.samples8[3 * i + ch]);
           if (first)
@@ -121,20 +151,17 @@ TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLight) {
         first = false;
       }
     ASSERT_FALSE(first);
-    for (const std::uint8_t c : kFog) {
+    for (const std::uint8_t c : kFog)
       EXPECT_GT(c, 10);
-      EXPECT_LT(c, 80);  // the day's fog is 200-208
-    }
+    EXPECT_LT(luminance(kFog.data()), 2.0 * clear_sky);
   }
-  int ground = 0, sky = 0;
+  int ground = 0, sky = 0, clear_sky_kept = 0;
   for (int v = 0; v < clear.height; ++v)
     for (int u = 0; u < clear.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * clear.width + u;
-      const double z = depthAt(u, v);  // along the optical axis; 0: nothing drawn (sky)
-      const double x = (u - cx) / fx, y = (v - cy) / fy;
-      const double keep =
-          z > 0.0 ? std::exp(-3.912 * z * std::sqrt(1 + x * x + y * y) / kVisibility) : 0.0;
+      const double z = depthAt(u, v), keep = keepAt(u, v);
       ++(z > 0.0 ? ground : sky);
+      clear_sky_kept += z == 0.0 && keep > 0.5;
       for (int ch = 0; ch < 3; ++ch) {
         const auto c0 = static_cast<std::uint8_t>(clear.samples8[3 * i + ch]);
         const double light =
@@ -147,9 +174,17 @@ TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLight) {
     }
   EXPECT_GT(ground, 1000);
   EXPECT_GT(sky, 1000);
+  // A thin haze leaves most of the sky's own light; a dense fog none.
+  if (f.visibility_m >= 10000.0)
+    EXPECT_GT(clear_sky_kept, sky / 2);
+  if (f.visibility_m <= 1000.0)
+    EXPECT_EQ(clear_sky_kept, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(DayAndNight, CameraFog, ::testing::Values("noon", "night"));
+INSTANTIATE_TEST_SUITE_P(DayNightAndHaze, CameraFog,
+                         ::testing::Values(Fog{"noon", 150.0, 100.0}, Fog{"night", 150.0, 100.0},
+                                           Fog{"noon", 20000.0, 100.0},
+                                           Fog{"noon", 3000.0, 400.0}));
 
 // A camera 1 m above the middle of the roof looking back and 30° down sees the train's body
 // (train.body) where the roof is: unlabelled, no instance, at the depth the roof plane has,

@@ -107,10 +107,19 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
              "Custom sun elevation above the horizon")
         .range(0, 90);
     b.number("fog_visibility_m", &C::fog_visibility_m, kM,
-             "Meteorological visibility of fog (2 % contrast, Koschmieder: extinction 3.912 / "
-             "visibility, applied by each pixel's range; the fog lit as the scene is, dark at "
-             "night); 0: clear")
+             "Meteorological visibility of fog at the train (2 % contrast, Koschmieder: "
+             "extinction 3.912 / visibility), applied along each pixel's ray through a fog "
+             "layer thinning with height (fog_height_m): the sky is veiled as much as the "
+             "layer's depth along the ray; the fog lit as the scene is, and never brighter than "
+             "its sky's horizon (dark at night); 0: clear")
         .range(0, 100000);
+    b.number("fog_height_m", &C::fog_height_m, kM,
+             "The fog's scale height: its extinction falls by e for every this many metres "
+             "above the camera (and stays the visibility's below it), so a ray rising at "
+             "elevation e crosses fog_height_m / sin e of it: a thin ground fog leaves the "
+             "zenith clear, a haze hundreds of metres deep greys the whole sky. Default "
+             "[unverified]: radiation fog is some tens to a few hundred metres deep")
+        .range(1, 100000);
     b.boolean("headlights", &C::headlights,
               "The train's two headlights (1 m above the body's reference, 0.6 m either side of "
               "the centre, 0.5 m ahead of the camera; 15 deg cones dipped 1 deg, half the light "

@@ -42,7 +42,7 @@ struct CameraConfig {
   bool depth_float = false;
   Daytime daytime = Daytime::kNoon;
   double sun_azimuth_rad = 180.0 * kRadPerDeg, sun_elevation_rad = 55.0 * kRadPerDeg;
-  double fog_visibility_m = 0.0;
+  double fog_visibility_m = 0.0, fog_height_m = 100.0;
   bool headlights = false;
   double shutter_s = 0.01, f_number = 16.0, iso = 100.0;
   double read_noise_dn = 0.0, shot_noise_dn = 0.0;

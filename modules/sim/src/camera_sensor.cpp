@@ -17,6 +17,7 @@
 #include "trainsim/camera/renderer.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/io/png.hpp"
@@ -52,6 +53,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         cameras_(setup.count),
         T_body_cam0_(setup.context.T_body_cam0),
         config_(c),
+        anchor_(setup.context.anchor),
         noise_(setup.context.scenario.seed(), name_ + ".noise"),
         intrinsics_(intrinsics(c)),
         lens_(c.distortion.none() ? nullptr
@@ -115,6 +117,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     CameraConfig at_noon = c;
     at_noon.daytime = Daytime::kNoon;
     noon_sky_light_ = skywardLight(lighting(at_noon));
+    noon_horizon_ = horizonLuminance(lighting(at_noon));
     if (setup.context.route != nullptr)
       for (const track::Block& block : setup.context.route->blocks)
         if (block.type == track::BlockType::kTunnel)
@@ -220,15 +223,30 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     return o;
   }
 
-  // Fog by each pixel's range r (Beer–Lambert with Koschmieder's extinction 3.912 / V): the
-  // surface's colour fades to the fog's as e^(−βr); the sky, at no range, is the fog's colour.
+  // The luminance of a lighting's sky at the horizon, in linear light.
+  static double horizonLuminance(const camera::Lighting& l) {
+    return 0.2126 * camera::Srgb::toLinear(l.sky_horizon[0]) +
+           0.7152 * camera::Srgb::toLinear(l.sky_horizon[1]) +
+           0.0722 * camera::Srgb::toLinear(l.sky_horizon[2]);
+  }
+
+  // Fog (Beer–Lambert, Koschmieder's extinction β = 3.912 / V at the train) in a layer whose
+  // extinction falls as e^(−h/H) at a height h above the camera (H: fog_height_m) and stays β
+  // below it. A ray rising at elevation e (sine s) crosses, to range L, the optical depth
+  // β L (1 − e^(−a)) / a with a = L s / H (β L level or falling); to the sky, β H / s, and all
+  // the fog there is below the horizon. The pixel's light fades to the fog's as e^(−depth).
   // The fog is lit as the scene is: its colour, light grey under the noon preset's sun and sky,
-  // scales in linear light with the light a surface facing the sky gets (ambient plus the sun's
-  // diffuse share), so night fog is dark and a tunnel's fog as dim as its walls.
-  void applyFog(camera::CameraImages& img, const camera::Lighting& lighting) const {
-    const double beta = 3.912 / config_.fog_visibility_m;
+  // scales in linear light with the light a surface facing the sky gets (ambient plus the
+  // sun's diffuse share), so a tunnel's fog is as dim as its walls; and with the sky's
+  // horizon, which a fog can outshine no more than it does at noon (at night, the ambient
+  // share would make it several times brighter than the night sky it stands in).
+  // `up`: the local vertical in the camera's axes.
+  void applyFog(camera::CameraImages& img, const camera::Lighting& lighting,
+                const Eigen::Vector3d& up) const {
+    const double beta = 3.912 / config_.fog_visibility_m, H = config_.fog_height_m;
     const camera::Intrinsics& k = renderer_.options().intrinsics;
-    const double lit = skywardLight(lighting) / noon_sky_light_;
+    const double lit = std::min(skywardLight(lighting) / noon_sky_light_,
+                                horizonLuminance(lighting) / noon_horizon_);
     // Koschmieder's blend of the object's light and the fog's, in linear light.
     constexpr std::uint8_t kFog[3] = {200, 204, 208};
     const double fog[3] = {lit * camera::Srgb::toLinear(kFog[0]),
@@ -239,7 +257,16 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         const std::size_t i = static_cast<std::size_t>(v) * img.width + u;
         const double z = img.depth[i];
         const double x = (u - k.cx) / k.fx, y = (v - k.cy) / k.fy;
-        const double keep = z > 0.0 ? std::exp(-beta * z * std::sqrt(1.0 + x * x + y * y)) : 0.0;
+        const double norm = std::sqrt(1.0 + x * x + y * y);
+        const double s = (x * up.x() + y * up.y() + up.z()) / norm;  // sine of the elevation
+        double depth = std::numeric_limits<double>::infinity();
+        if (z > 0.0) {
+          const double range = z * norm, a = range * s / H;
+          depth = beta * range * (a > 1e-12 ? -std::expm1(-a) / a : 1.0);
+        } else if (s > 0.0) {
+          depth = beta * H / s;
+        }
+        const double keep = std::exp(-depth);
         for (int ch = 0; ch < 3; ++ch) {
           std::uint8_t& c = img.rgb[3 * i + ch];
           c = camera::Srgb::fromLinear(keep * camera::Srgb::toLinear(c) + (1.0 - keep) * fog[ch]);
@@ -283,7 +310,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
     // fog as it is where the camera is.
     out.images = renderer_.render(window, T, lighting_, daylight_ ? &tunnel_lighting_ : nullptr);
     if (config_.rgb && config_.fog_visibility_m > 0.0)
-      applyFog(out.images, lightingAt(trajectory_.sample(k).chainage_m));
+      applyFog(out.images, lightingAt(trajectory_.sample(k).chainage_m),
+               T.linear().transpose() * anchor_.rotationAnchorFromLocalEnu(T.translation()).col(2));
     if (lens_)
       out.images = lens_->apply(out.images);
     camera::CameraImages& img = out.images;
@@ -405,12 +433,14 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   Eigen::Isometry3d T_body_cam0_, T_body_cam_;
   std::shared_ptr<const scene::Mesh> body_;  // the train's body in the reported point's axes
   CameraConfig config_;
+  GeodeticAnchor anchor_;  // the local vertical, for the fog's layer
   RandomStream noise_;
   camera::Intrinsics intrinsics_;  // the image's (calib.txt's P)
   double reach_m_ = 0.0;           // the farthest the render can see (its corners' far plane)
   std::unique_ptr<camera::LensRemap> lens_;
   camera::Lighting lighting_, tunnel_lighting_;
   double noon_sky_light_ = 1.0;           // skywardLight() under the noon preset
+  double noon_horizon_ = 1.0;             // horizonLuminance() under the noon preset
   std::vector<track::Block> tunnels_;     // the main track's tunnel blocks
   double camera_ahead_of_front_m_ = 0.0;  // the camera's chainage past the front pivot's
   camera::Exposure exposure_;
