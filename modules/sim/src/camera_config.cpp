@@ -49,8 +49,8 @@ const scenario::Binding<CameraConfig>& cameraBinding() {
     b.integer("width", &C::width, "px", "Image width").range(16, 8192);
     b.integer("height", &C::height, "px", "Image height").range(16, 8192);
     b.number("horizontal_fov_deg", &C::hfov_rad, units::kDegree,
-             "Horizontal field of view, when fx is 0 (square pixels, principal point at the "
-             "centre)")
+             "Horizontal field of view, when fx is 0 (square pixels: fy = fx; the principal "
+             "point is cx, cy, the image's centre where they are 0)")
         .range(1, 170);
     b.number("fx", &C::fx, units::kNone, "Focal length in pixels; 0: from horizontal_fov_deg")
         .range(0, 1e6);
