@@ -1,7 +1,8 @@
-// Catenary, tunnels and bridges over a whole generated route: the contact wire against the
-// track frames, masts out of tunnels and their portals, booms over another track's wires, the
-// messenger under a tunnel's lining, the cut ground under the tube's shell, bridge decks and
-// piers (the track bed, fences, platforms, signals and objects: environment_assets_test.cpp).
+// Catenary, tunnels, bridges and signals over a whole generated route: the contact wire against
+// the track frames, masts out of tunnels and their portals, booms over another track's wires,
+// the messenger under a tunnel's lining, the cut ground under the tube's shell, bridge decks and
+// piers, each signal's lit aspect and the way it faces (the track bed, fences, platforms, the
+// clearance of masts and signals, and objects: environment_assets_test.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -171,30 +172,19 @@ TEST(Assets, NoTracksCatenarySupportRunsThroughAnotherTracksWires) {
     }
   }
   ASSERT_GT(arms.size(), 200u);
-  std::map<std::pair<long, long>, std::vector<std::size_t>> grid;  // wires by 20 m cells
+  PlanGrid grid;  // the wires' segments by their first points
   for (std::size_t i = 0; i < wires.size(); ++i)
-    grid[{std::lround(std::floor(wires[i].second[0].x() / 20.0)),
-          std::lround(std::floor(wires[i].second[0].y() / 20.0))}]
-        .push_back(i);
+    grid.add(wires[i].second[0], i);
   std::size_t near_another = 0;
-  for (const auto& [track, arm] : arms) {
-    const long gx = std::lround(std::floor(arm[0].x() / 20.0)),
-               gy = std::lround(std::floor(arm[0].y() / 20.0));
-    for (long dx = -4; dx <= 4; ++dx)
-      for (long dy = -4; dy <= 4; ++dy) {
-        const auto cell = grid.find({gx + dx, gy + dy});
-        if (cell == grid.end())
-          continue;
-        for (const std::size_t i : cell->second) {
-          if (wires[i].first == track)
-            continue;
-          const double d = segmentDistance(arm[0], arm[1], wires[i].second[0], wires[i].second[1]);
-          near_another += d < 2.0;
-          EXPECT_GE(d, 0.3) << "track " << track << "'s support at " << arm[0].transpose()
-                            << " and track " << wires[i].first << "'s wire";
-        }
-      }
-  }
+  for (const auto& [track, arm] : arms)
+    grid.near(arm[0], 4, [&, &track = track, &arm = arm](std::size_t i) {
+      if (wires[i].first == track)
+        return;
+      const double d = segmentDistance(arm[0], arm[1], wires[i].second[0], wires[i].second[1]);
+      near_another += d < 2.0;
+      EXPECT_GE(d, 0.3) << "track " << track << "'s support at " << arm[0].transpose()
+                        << " and track " << wires[i].first << "'s wire";
+    });
   EXPECT_GT(near_another, 10u);  // the booms over the auxiliary tracks' wires
 }
 
@@ -378,6 +368,105 @@ TEST(Assets, ContactWiresHangAtTheContactHeightWithinTheStagger) {
     ++joints;
   }
   EXPECT_GT(joints, 150);
+}
+
+TEST(Signals, ShowOneLitAspectThatTheTrainsOwnTrackNeverSetsAtStop) {
+  // Each aspect's prototype lights its own lamp (an emitting material) and no other.
+  const World& w = defaultWorld();
+  const environment::Environment& env = w.env();
+  const std::pair<environment::SignalAspect, scene::MaterialId> lit[] = {
+      {environment::SignalAspect::kStop, scene::mat::kSignalLampRed},
+      {environment::SignalAspect::kCaution, scene::mat::kSignalLampYellow},
+      {environment::SignalAspect::kProceed, scene::mat::kSignalLampGreen}};
+  for (const auto& [aspect, lamp] : lit) {
+    std::vector<scene::MaterialId> emitting;
+    for (const scene::MeshPart& part : env.signalPrototype(aspect)->parts)
+      if (scene::material(part.material).emits())
+        emitting.push_back(part.material);
+    EXPECT_EQ(emitting, std::vector<scene::MaterialId>{lamp})
+        << environment::signalAspectName(aspect);
+  }
+
+  // Every signal in the scene is drawn with its own aspect's prototype, and other things have
+  // none.
+  std::set<scene::InstanceId> signals;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      const auto aspect = env.signalAspect(o.instance);
+      const auto asset = scene::trackAsset(o.instance);
+      ASSERT_EQ(aspect.has_value(), asset && asset->kind == 12);
+      if (!aspect)
+        continue;
+      EXPECT_EQ(o.mesh, env.signalPrototype(*aspect));
+      signals.insert(o.instance);
+    }
+  EXPECT_GE(signals.size(), 20u);  // 14 block starts on the main track and on the double track
+
+  // The shares over many signals (instance ids as the layout makes them) follow signal_caution
+  // and signal_stop, and track 0 (the train's) never shows stop; the same id always draws the
+  // same aspect, in another environment of the same seed too.
+  const Json shares = {{"assets", {{"signal_caution", 0.25}, {"signal_stop", 0.4}}}};
+  const World again = makeWorld(shares), twin = makeWorld(shares);
+  constexpr int kSignals = 20000;
+  for (const int track : {0, 1}) {
+    std::map<environment::SignalAspect, int> count;
+    for (int i = 0; i < kSignals; ++i) {
+      const scene::InstanceId id = scene::trackAssetInstance(track, 12, i);
+      const auto aspect = again.env().signalAspect(id);
+      ASSERT_TRUE(aspect.has_value());
+      ++count[*aspect];
+      ASSERT_EQ(aspect, twin.env().signalAspect(id));
+    }
+    const double stop = track == 0 ? 0.0 : 0.4;
+    const auto share = [&](environment::SignalAspect a) {
+      return static_cast<double>(count[a]) / kSignals;
+    };
+    EXPECT_EQ(count[environment::SignalAspect::kStop] == 0, track == 0);
+    // Binomial σ at n = 20 000 is at most 0.0035: 4σ.
+    EXPECT_NEAR(share(environment::SignalAspect::kStop), stop, 0.014) << track;
+    EXPECT_NEAR(share(environment::SignalAspect::kCaution), 0.25, 0.014) << track;
+    EXPECT_NEAR(share(environment::SignalAspect::kProceed), 1.0 - 0.25 - stop, 0.014) << track;
+  }
+}
+
+TEST(Signals, EachSignalFacesTheTrainsItGoverns) {
+  // Left-hand running: the main track's signals stand on its left 20 m before each boundary
+  // between blocks, their lamps facing the train as it comes. The double track is signalled
+  // both ways on its right: its own direction's signals (index + 2^32) govern the trains running
+  // against the main chainage, so they stand 20 m past the boundary and the train sees their
+  // backs; its wrong-line signals stand 20 m before it and face the train.
+  const World& w = defaultWorld();
+  const auto along = alongTheMainTrack(w);
+  const auto& blocks = w.railway().route().blocks;
+  std::map<std::pair<int, bool>, int> seen;
+  for (const auto& tile : allTiles())
+    for (const auto& o : tile->objects) {
+      const auto asset = scene::trackAsset(o.instance);
+      if (!asset || asset->kind != 12)
+        continue;
+      const bool against = asset->index >= (std::int64_t{1} << 32);
+      const auto [x, lateral, up] = along(o.position);
+      const Eigen::Vector3d tangent = w.railway().frame(0, x).tangent;
+      // The head's lamps are on its −x side (the prototype's face): x runs the way its trains go.
+      const double facing = o.linear.col(0).cast<double>().normalized().dot(tangent);
+      double boundary = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 1; i < blocks.size(); ++i)
+        if (std::abs(blocks[i].chainage_begin_m - x) < std::abs(boundary - x))
+          boundary = blocks[i].chainage_begin_m;
+      if (against) {
+        EXPECT_LT(facing, -0.99) << x;
+        EXPECT_NEAR(x, boundary + 20.0, 0.5);
+      } else {
+        EXPECT_GT(facing, 0.99) << x;
+        EXPECT_NEAR(x, boundary - 20.0, 0.5);
+      }
+      EXPECT_EQ(lateral > 0.0, asset->track_id == 0) << x;
+      ++seen[{asset->track_id, against}];
+    }
+  EXPECT_GE((seen[{0, false}]), 10);
+  EXPECT_EQ((seen[{0, true}]), 0);
+  EXPECT_GE((seen[{1, false}]), 10);
+  EXPECT_GE((seen[{1, true}]), 10);
 }
 
 }  // namespace

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "trainsim/environment/environment.hpp"
@@ -96,6 +99,29 @@ inline std::function<std::array<double, 3>(const Eigen::Vector3d&)> alongTheMain
       main.push_back(s);
   return nearestOn(std::move(main));
 }
+
+// Indices of things by the 20 m plan cell of a point of theirs, to visit what lies near a
+// point without walking everything.
+class PlanGrid {
+ public:
+  void add(const Eigen::Vector3d& p, std::size_t i) { cells_[cellOf(p)].push_back(i); }
+  // Calls f(i) for every index in the cells within `reach` cells of p's (3 × 3 for reach 1).
+  template <class F>
+  void near(const Eigen::Vector3d& p, long reach, F&& f) const {
+    const auto [gx, gy] = cellOf(p);
+    for (long dx = -reach; dx <= reach; ++dx)
+      for (long dy = -reach; dy <= reach; ++dy)
+        if (const auto cell = cells_.find({gx + dx, gy + dy}); cell != cells_.end())
+          for (const std::size_t i : cell->second)
+            f(i);
+  }
+
+ private:
+  static std::pair<long, long> cellOf(const Eigen::Vector3d& p) {
+    return {std::lround(std::floor(p.x() / 20.0)), std::lround(std::floor(p.y() / 20.0))};
+  }
+  std::map<std::pair<long, long>, std::vector<std::size_t>> cells_;
+};
 
 struct Nearest {
   double d = std::numeric_limits<double>::infinity();
