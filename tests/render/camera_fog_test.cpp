@@ -175,10 +175,12 @@ TEST_P(CameraFog, ColoursFollowKoschmiederInLinearLightThroughALayerThinningWith
   EXPECT_GT(ground, 1000);
   EXPECT_GT(sky, 1000);
   // A thin haze leaves most of the sky's own light; a dense fog none.
-  if (f.visibility_m >= 10000.0)
+  if (f.visibility_m >= 10000.0) {
     EXPECT_GT(clear_sky_kept, sky / 2);
-  if (f.visibility_m <= 1000.0)
+  }
+  if (f.visibility_m <= 1000.0) {
     EXPECT_EQ(clear_sky_kept, 0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(DayNightAndHaze, CameraFog,
