@@ -240,17 +240,11 @@ double TunnelTube::roof(double lateral) const {
 
 std::pair<double, double> outermostOffsets(const track::Layout& layout, double x) {
   double left = 0.0, right = 0.0;
-  for (const auto& t : layout.tracks) {
-    if (t.offset.empty() || x < t.main_chainage_begin_m || x > t.main_chainage_end_m)
-      continue;
-    for (const auto& piece : t.offset) {
-      if (x < piece.x0 || x > piece.x1)
-        continue;
-      const double y = piece.offset(x);
-      left = std::max(left, y);
-      right = std::min(right, y);
+  for (const auto& t : layout.tracks)
+    if (const std::optional<double> y = trackOffset(t, x)) {
+      left = std::max(left, *y);
+      right = std::min(right, *y);
     }
-  }
   return {left, right};
 }
 
@@ -545,14 +539,21 @@ void addCatenary(TileContext& ctx) {
   }
   const bool has_double =
       layout.tracks.size() > 1 && layout.tracks[1].kind == track::TrackKind::kDouble;
+  // The tubes of the tunnels whose supports the tile may hold (its spans reach a span beyond
+  // the range), worked out once: each is sampled along its whole length.
+  std::vector<std::pair<const terrain::Structure*, TunnelTube>> tubes;
+  for (const terrain::Structure& s : railway.structures())
+    if (s.type == track::BlockType::kTunnel && s.chainage_end_m >= x_lo - 2.0 * A.mast_span_m &&
+        s.chainage_begin_m <= x_hi + 2.0 * A.mast_span_m)
+      tubes.emplace_back(
+          &s, tunnelTube(layout, ctx.env.params().terrain, s.chainage_begin_m, s.chainage_end_m));
   // The lining's roof over a track at main chainage x in a tunnel, above the top of rail (the
   // crown over the tube's centre, lower off it), and the system height a support keeps under it.
   // (`across`: how far the wire is staggered left of the track.)
   const auto tunnelRoofAt = [&](const track::LayoutTrack& laid, double x, double across) {
-    for (const terrain::Structure& s : railway.structures())
-      if (s.type == track::BlockType::kTunnel && x >= s.chainage_begin_m && x <= s.chainage_end_m)
-        return tunnelTube(layout, ctx.env.params().terrain, s.chainage_begin_m, s.chainage_end_m)
-            .roof(trackOffset(laid, x).value_or(0.0) + across);
+    for (const auto& [s, tube] : tubes)
+      if (x >= s->chainage_begin_m && x <= s->chainage_end_m)
+        return tube.roof(trackOffset(laid, x).value_or(0.0) + across);
     return ctx.env.params().terrain.tunnel_crown_m;
   };
   for (const track::LayoutTrack& laid : layout.tracks) {
