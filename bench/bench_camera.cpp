@@ -5,13 +5,15 @@
 // libpng's default settings. Software OpenGL (Mesa llvmpipe) under a private Xvfb when DISPLAY
 // is unset.
 //
-//   bench_camera [--quick]   (--quick: the default scene only)
+//   bench_camera [--quick | --tunnel]   (--quick: the default scene only; --tunnel: its frames
+//   at the first tunnel's portal only)
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -94,12 +96,23 @@ Difference difference(const camera::CameraImages& a, const camera::CameraImages&
 struct Stretch {
   double frame_ms = 0.0, first_ms = 0.0, window_ms = 0.0;  // means
   double triangles = 0.0, objects = 0.0;
-  Difference diff;  // against the reference renderer, when given (the worst frame's)
+  Difference diff;  // against the reference images, when given (the worst frame's)
   int frames = 0;
 };
 
+// The images a frame is compared with.
+using Reference =
+    std::function<camera::CameraImages(const scene::SceneWindow&, const Eigen::Isometry3d&)>;
+
+// The images of `renderer` under the run's default light (`shade`: as render()'s).
+Reference imagesOf(const camera::Renderer& renderer, const camera::Lighting* shade = nullptr) {
+  return [&renderer, shade](const scene::SceneWindow& window, const Eigen::Isometry3d& T) {
+    return renderer.render(window, T, camera::Lighting(), shade);
+  };
+}
+
 Stretch walk(const World& w, scene::SceneStream& stream, const camera::Renderer& renderer,
-             double from_m, double to_m, double step_m, const camera::Renderer* reference = nullptr,
+             double from_m, double to_m, double step_m, const Reference& reference = {},
              const camera::Lighting* shade = nullptr) {
   const sim::Trajectory& trajectory = w.plan->trajectory();
   const camera::Lighting light;
@@ -123,8 +136,8 @@ Stretch walk(const World& w, scene::SceneStream& stream, const camera::Renderer&
     s.frame_ms += median(times);
     s.triangles += double(img.triangles);
     s.objects += double(img.objects);
-    if (reference != nullptr) {
-      const Difference d = difference(img, reference->render(window, T, light, shade));
+    if (reference) {
+      const Difference d = difference(img, reference(window, T));
       s.diff.rgb_mean = std::max(s.diff.rgb_mean, d.rgb_mean);
       s.diff.rgb_changed = std::max(s.diff.rgb_changed, d.rgb_changed);
       s.diff.class_changed = std::max(s.diff.class_changed, d.class_changed);
@@ -226,9 +239,14 @@ void pngTable(const World& w) {
              all.base_ms / frames, all.ms / all.base_ms, all.bytes / all.base_bytes);
 }
 
+void tunnelRows(const World& def, const track::Block& tunnel,
+                const std::shared_ptr<const terrain::TunnelDaylight>& daylight, Detail detail);
+
 // Frames before and into the default route's first tunnel, each surface lit by the daylight
-// that reaches it (the run's way: a second colour pass where a tunnel's bore is in view)
-// against the day's light everywhere.
+// that reaches it (the run's way: the id pass first, then one colour pass lighting each pixel's
+// surface by its share) against the day's light everywhere, and the images against a
+// reference made independently of the run's shader: a render under each lighting alone,
+// blended per pixel by the share of the surface the pixel shows.
 void tunnelTable(const World& def) {
   const track::Route& route = def.stage->railway->route();
   const auto tunnel = std::find_if(route.blocks.begin(), route.blocks.end(), [](const auto& b) {
@@ -238,14 +256,28 @@ void tunnelTable(const World& def) {
     return;
   const auto daylight = std::make_shared<const terrain::TunnelDaylight>(
       route, def.stage->railway->layout(), def.stage->environment->params().terrain);
-  camera::RendererOptions o = options(1242, 375, Detail::kLodFxaa);
+  const double from = std::max(20.0, tunnel->chainage_begin_m - 150.0);
+  fmt::print(
+      "\nTunnel portal (main chainage {:.0f}-{:.0f} m, the first tunnel's portal at {:.0f} m, "
+      "every 25 m; 1242 x 375, culled, levels of detail; the differences against the blend of "
+      "a render under each lighting alone, by each pixel's share):\n\n| lighting | frames | ms "
+      "a frame | x daylight everywhere | RGB mean diff | RGB pixels changed % |\n"
+      "|---|---|---|---|---|---|\n",
+      from, tunnel->chainage_begin_m + 100.0, tunnel->chainage_begin_m);
+  for (const Detail detail : {Detail::kLodFxaa, Detail::kLod})
+    tunnelRows(def, *tunnel, daylight, detail);
+}
+
+// tunnelTable()'s two rows at one level of detail.
+void tunnelRows(const World& def, const track::Block& tunnel,
+                const std::shared_ptr<const terrain::TunnelDaylight>& daylight, Detail detail) {
+  camera::RendererOptions o = options(1242, 375, detail);
   const camera::Renderer day(o);
   o.daylight = [daylight](std::span<const Eigen::Vector3d> points, std::span<float> shares) {
     daylight->shares(points, shares);
   };
-  const camera::Renderer everything(o);  // the shade's render draws all in view
   o.shade_meets = [daylight](const scene::Box3d& box) { return daylight->meets(box); };
-  const camera::Renderer shaded(o);  // only what may be in the shade (the run's)
+  const camera::Renderer shaded(o);  // the run's
   // The run's tunnel lighting: the night's faint sky and the train's two headlights (1 m above
   // the body's reference, 0.6 m either side, 0.5 m ahead of the camera, dipped 1°; in the
   // camera's axes: x right, y down, z forward).
@@ -260,26 +292,34 @@ void tunnelTable(const World& def) {
     lamp.half_distance_m = 35.0;
     shade.spots.push_back(lamp);
   }
+  const Reference blend = [&](const scene::SceneWindow& window, const Eigen::Isometry3d& T) {
+    camera::CameraImages a = day.render(window, T, camera::Lighting());
+    const camera::CameraImages b = day.render(window, T, shade);
+    const camera::Intrinsics& k = o.intrinsics;
+    for (int v = 0; v < k.height; ++v)
+      for (int u = 0; u < k.width; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+        const double z = a.depth[i];
+        if (z <= 0.0)
+          continue;
+        const double s =
+            (*daylight)(T * Eigen::Vector3d((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z));
+        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c)
+          a.rgb[c] = static_cast<std::uint8_t>(std::lround(b.rgb[c] + s * (a.rgb[c] - b.rgb[c])));
+      }
+    return a;
+  };
   auto stream = def.stage->environment->stream(16);
-  const double from = std::max(20.0, tunnel->chainage_begin_m - 150.0);
-  const double to = tunnel->chainage_begin_m + 100.0;
+  const double from = std::max(20.0, tunnel.chainage_begin_m - 150.0);
+  const double to = tunnel.chainage_begin_m + 100.0;
   const Stretch a = walk(def, *stream, day, from, to, 25.0);
-  const Stretch b = walk(def, *stream, everything, from, to, 25.0, nullptr, &shade);
-  const Stretch c = walk(def, *stream, shaded, from, to, 25.0, &everything, &shade);
-  fmt::print(
-      "\nTunnel portal (main chainage {:.0f}-{:.0f} m, the first tunnel's portal at {:.0f} m, "
-      "every "
-      "25 m; 1242 x 375, culled, levels of detail, FXAA):\n\n| lighting | frames | ms a frame | "
-      "x daylight everywhere | RGB mean diff | RGB pixels changed % |\n|---|---|---|---|---|---|\n"
-      "| daylight everywhere | {} | {:.1f} | 1.000 | – | – |\n",
-      from, to, tunnel->chainage_begin_m, a.frames, a.frame_ms);
-  fmt::print(
-      "| by surface, the shade's render drawing all in view | {} | {:.1f} | {:.3f} | – | – |\n",
-      b.frames, b.frame_ms, b.frame_ms / a.frame_ms);
-  fmt::print(
-      "| by surface, the shade's render drawing what may be in the shade (the run's) | {} | {:.1f} "
-      "| {:.3f} | {:.3f} | {:.3f} |\n",
-      c.frames, c.frame_ms, c.frame_ms / a.frame_ms, c.diff.rgb_mean, 100.0 * c.diff.rgb_changed);
+  const Stretch c = walk(def, *stream, shaded, from, to, 25.0, blend, &shade);
+  const char* name = detail == Detail::kLodFxaa ? ", FXAA (the run's)" : ", no FXAA";
+  fmt::print("| daylight everywhere{} | {} | {:.1f} | 1.000 | – | – |\n", name, a.frames,
+             a.frame_ms);
+  fmt::print("| by surface, in one colour pass{} | {} | {:.1f} | {:.3f} | {:.3f} | {:.3f} |\n",
+             name, c.frames, c.frame_ms, c.frame_ms / a.frame_ms, c.diff.rgb_mean,
+             100.0 * c.diff.rgb_changed);
 }
 
 }  // namespace
@@ -305,6 +345,10 @@ int main(int argc, char** argv) {
   }
   const auto p0 = Clock::now();
   const World def = makeWorld(0.0);
+  if (argc > 1 && std::strcmp(argv[1], "--tunnel") == 0) {
+    tunnelTable(def);
+    return 0;
+  }
   fmt::print(
       "default scenario planned in {:.1f} s; colour + depth + id passes, draw distance {:.0f} m, "
       "median of {} renders a frame (first: with the actors made)\n\n",
@@ -320,15 +364,15 @@ int main(int argc, char** argv) {
     auto stream = def.stage->environment->stream(16);
     const Stretch base = walk(def, *stream, full, 150.0, 5900.0, 300.0);
     printRow(fmt::format("{} x {}, everything in the window", width, height), base, base, false);
-    const Stretch c = walk(def, *stream, culled, 150.0, 5900.0, 300.0, &full);
+    const Stretch c = walk(def, *stream, culled, 150.0, 5900.0, 300.0, imagesOf(full));
     printRow(fmt::format("{} x {}, frustum culled", width, height), c, base, true);
-    const Stretch l = walk(def, *stream, lod, 150.0, 5900.0, 300.0, &full);
+    const Stretch l = walk(def, *stream, lod, 150.0, 5900.0, 300.0, imagesOf(full));
     printRow(fmt::format("{} x {}, culled + levels of detail (1 px)", width, height), l, base,
              true);
     // FXAA smooths the colour image alone: its class and depth columns must stay those of the
     // row above.
     const camera::Renderer fxaa(options(width, height, Detail::kLodFxaa));
-    const Stretch f = walk(def, *stream, fxaa, 150.0, 5900.0, 300.0, &full);
+    const Stretch f = walk(def, *stream, fxaa, 150.0, 5900.0, 300.0, imagesOf(full));
     printRow(
         fmt::format("{} x {}, culled + levels of detail + FXAA (the run's default)", width, height),
         f, base, true);

@@ -507,13 +507,20 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
   // fully nearer than x = 20 m, none of it past 40 m, linearly in between (a tunnel's bore, as
   // the camera sensor's function has it). Each pixel is then the render by day where its
   // surface is in daylight, the shade's render where none reaches it, their blend between, and
-  // the sky the day's sky.
+  // the sky the day's sky. The renderer draws it in one colour pass, each surface lit by both
+  // lightings in proportion; the test blends two renders, one under each lighting alone.
   const Eigen::Vector3d O(1.0e6, 0.0, 250.0);  // far from the scenario origin
-  // And a wall in daylight (x = 10 m, left of the axis) and one in the shade (x = 60 m, right).
+  // And a wall in daylight (x = 10 m, left of the axis) and one in the shade (x = 60 m, right),
+  // and a wire 4 m up from the day into the shade.
+  scene::Wire wire;
+  wire.points = {Eigen::Vector3f(5.0f, 1.0f, 4.0f), Eigen::Vector3f(70.0f, 1.0f, 4.0f)};
+  wire.instance = 7;
   const auto tile =
-      makeTile(O, {square(Eigen::Vector3d(100.0, 0.0, 0.0), Eigen::Vector3d::UnitZ(), 200.0),
-                   square(Eigen::Vector3d(10.0, 3.0, 1.0), -Eigen::Vector3d::UnitX(), 1.0),
-                   square(Eigen::Vector3d(60.0, -8.0, 3.0), -Eigen::Vector3d::UnitX(), 3.0)});
+      makeTile(O,
+               {square(Eigen::Vector3d(100.0, 0.0, 0.0), Eigen::Vector3d::UnitZ(), 200.0),
+                square(Eigen::Vector3d(10.0, 3.0, 1.0), -Eigen::Vector3d::UnitX(), 1.0),
+                square(Eigen::Vector3d(60.0, -8.0, 3.0), -Eigen::Vector3d::UnitX(), 3.0)},
+               {wire});
   const auto share = [&](const Eigen::Vector3d& p) {
     return std::clamp((40.0 - (p.x() - O.x())) / 20.0, 0.0, 1.0);
   };
@@ -525,7 +532,7 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
       shares[i] = static_cast<float>(share(points[i]));
   };
   const camera::Renderer shaded(o);
-  // The shade's render drawing only what may be out of daylight (x > 20 m): the same images.
+  // Told which things may be out of daylight (x > 20 m): the same images.
   o.shade_meets = [&](const scene::Box3d& box) { return box.max.x() > O.x() + 20.0; };
   const camera::Renderer partly(o);
   const Eigen::Isometry3d T = lookingAlongX(O + Eigen::Vector3d(0.0, 0.0, 2.0));
@@ -544,7 +551,7 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
   ASSERT_EQ(mixed.rgb.size(), a.rgb.size());
   EXPECT_EQ(mixed.depth, a.depth);
   const camera::Intrinsics& k = o.intrinsics;
-  int sunny = 0, dark = 0, between = 0, sky = 0;
+  int sunny = 0, dark = 0, between = 0, sky = 0, wired = 0;
   for (int v = 0; v < k.height; ++v)
     for (int u = 0; u < k.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
@@ -553,15 +560,18 @@ TEST(CameraRender, EachSurfaceIsLitByTheDaylightThatReachesItAndTheShadeByTheRes
           z > 0.0 ? share(T * Eigen::Vector3d((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z))
                   : 1.0;
       (z == 0.0 ? sky : w == 1.0 ? sunny : w == 0.0 ? dark : between) += 1;
+      wired += a.semantic[i] == scene::cls::kWire && w > 0.0 && w < 1.0;
+      // Both references and the one render are rounded to 8 bits.
       for (int c = 0; c < 3; ++c) {
         const double expected = b.rgb[3 * i + c] + w * (a.rgb[3 * i + c] - b.rgb[3 * i + c]);
-        ASSERT_NEAR(mixed.rgb[3 * i + c], expected, 0.5 + 1e-4) << u << " " << v;
+        ASSERT_NEAR(mixed.rgb[3 * i + c], expected, 1.0 + 1e-4) << u << " " << v;
       }
     }
   EXPECT_GT(sunny, 1000);
   EXPECT_GT(dark, 1000);
   EXPECT_GT(between, 1000);
   EXPECT_GT(sky, 1000);
+  EXPECT_GT(wired, 5);
   // The shade is darker than the day where the lamp does not reach.
   EXPECT_LT(b.rgb[3 * (k.width * (k.height - 1)) + 1], a.rgb[3 * (k.width * (k.height - 1)) + 1]);
 }

@@ -7,18 +7,25 @@
 
 #include <vtkActor.h>
 #include <vtkAutoInit.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
+#include <vtkCommand.h>
 #include <vtkFloatArray.h>
 #include <vtkLight.h>
+#include <vtkLightCollection.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
+#include <vtkOpenGLRenderWindow.h>
+#include <vtkOpenGLShaderProperty.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkPropCollection.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkShaderProgram.h>
 #include <vtkSmartPointer.h>
+#include <vtkTextureObject.h>
 #include <vtkUnsignedCharArray.h>
 
 #include "frustum.hpp"
@@ -41,9 +48,6 @@ struct MeshLevel {
   vtkSmartPointer<vtkPolyData> lit, glow;     // when some part emits: the two halves; else null
   vtkSmartPointer<vtkPolyDataMapper> mapper;  // the colour pass's, shared by the objects
   vtkSmartPointer<vtkPolyDataMapper> glow_mapper;  // the same for what emits
-  // The shade's render's (RendererOptions::daylight): its own, so that neither pass's mappers
-  // see another property or light set than the last time and rebuild their buffers or shaders.
-  vtkSmartPointer<vtkPolyDataMapper> shade_mapper;
   std::int64_t triangles = 0;
 };
 
@@ -58,7 +62,6 @@ struct MeshEntry {
 struct DrawnEntry {
   std::shared_ptr<const scene::Tile> tile;  // the tile it was made from, kept alive; null: unmade
   std::array<vtkSmartPointer<vtkActor>, kLevels> colour, id, glow;
-  std::array<vtkSmartPointer<vtkActor>, kLevels> shaded;  // the shade's render's colour actors
   bool shares_colour_mapper = false;  // an object's colour actors draw its mesh's mappers
   int shade = -1;  // whether its box may be out of full daylight (RendererOptions::shade_meets)
   std::uint32_t slot = 0;
@@ -67,8 +70,7 @@ struct DrawnEntry {
   std::uint64_t used = 0;
   vtkActor* colourActor() const { return colour[level]; }
   vtkActor* idActor() const { return id[level]; }
-  vtkActor* glowActor() const { return glow[level]; }     // null when nothing of it emits
-  vtkActor* shadeActor() const { return shaded[level]; }  // null until made (shadeEntry())
+  vtkActor* glowActor() const { return glow[level]; }  // null when nothing of it emits
 };
 
 // Places a drawn thing's actors (one matrix shared by the passes).
@@ -83,8 +85,6 @@ void place(DrawnEntry& e, const Eigen::Matrix3d& linear, const Eigen::Vector3d& 
   e.idActor()->SetUserMatrix(m);
   if (vtkActor* glow = e.glowActor())
     glow->SetUserMatrix(m);
-  if (vtkActor* shaded = e.shadeActor())
-    shaded->SetUserMatrix(m);
 }
 
 // Slot s is drawn as object s + 1 (0: nothing).
@@ -103,6 +103,63 @@ scene::Box3d wireBounds(const scene::Tile& tile, const scene::Wire& wire) {
   return b;
 }
 
+// Each surface lit by the daylight that reaches it, in one colour pass. Light is linear in the
+// share s of daylight a surface gets, so its colour s × (its colour by day) + (1 − s) × (its
+// colour in the shade) is that of one lighting: the ambient s·a_day + (1 − s)·a_shade, the
+// day's lights weighted by s·(1 − a_day) and the shade's by (1 − s)·(1 − a_shade) (a lighting's
+// diffuse share is 1 − its ambient). VTK writes the lighting's shader; these replacements
+// weight its terms per fragment, by the share of the pixel's surface read from a texture
+// (worked out from the id pass's depth). GLSL's preprocessor, as C's, leaves a macro's name
+// unexpanded within its own expansion, so `#define lightColor0 (lightColor0 * w)` weights the
+// uniform wherever the lighting code reads it; the defines follow the uniforms' declarations.
+// The most lights a colour pass has (the shader's replacements weight this many).
+constexpr int kMostLights = 16;
+
+struct ShadeInputs {
+  int unit = 0;                  // the shares' texture unit
+  int shaded = 0;                // 0: daylight everywhere (the texture is not read)
+  std::array<float, 4> light{};  // ambient by day, in the shade; diffuse by day, in the shade
+};
+
+// Lights 0 … day_lights − 1 are the day's, the rest the shade's; `lit` false: a surface drawn
+// without lights (a wire), its colour scaled by the ambient alone.
+std::string shadeDeclarations(bool lit, int day_lights) {
+  std::string s =
+      "//VTK::TMap::Dec\n"
+      "uniform sampler2D trainsimShares;\n"
+      "uniform int trainsimShaded;\n"
+      "uniform vec4 trainsimLight;\n"
+      "float trainsimDay = 1.0;\n"
+      "#define ambientIntensity mix(trainsimLight.y, trainsimLight.x, trainsimDay)\n";
+  s += lit ? "#define diffuseIntensity 1.0\n" : "#define diffuseIntensity 0.0\n";
+  for (int i = 0; lit && i < kMostLights; ++i)
+    s += "#define lightColor" + std::to_string(i) + " (lightColor" + std::to_string(i) +
+         (i < day_lights ? " * (trainsimDay * trainsimLight.z))\n"
+                         : " * ((1.0 - trainsimDay) * trainsimLight.w))\n");
+  return s;
+}
+
+void setShaderProperty(vtkOpenGLShaderProperty* p, bool lit, int day_lights) {
+  p->ClearAllFragmentShaderReplacements();
+  p->AddFragmentShaderReplacement("//VTK::TMap::Dec", true, shadeDeclarations(lit, day_lights),
+                                  false);
+  p->AddFragmentShaderReplacement(
+      "//VTK::UniformFlow::Impl", true,
+      "//VTK::UniformFlow::Impl\n"
+      "  if (trainsimShaded == 1)\n"
+      "    trainsimDay = texelFetch(trainsimShares, ivec2(gl_FragCoord.xy), 0).r;\n",
+      false);
+}
+
+// Sets a colour mapper's uniforms whenever it readies its shader (`client`: the ShadeInputs).
+void setShadeUniforms(vtkObject*, unsigned long, void* client, void* program) {
+  const auto& in = *static_cast<const ShadeInputs*>(client);
+  auto* p = static_cast<vtkShaderProgram*>(program);
+  p->SetUniformi("trainsimShares", in.unit);
+  p->SetUniformi("trainsimShaded", in.shaded);
+  p->SetUniform4f("trainsimLight", in.light.data());
+}
+
 }  // namespace
 
 // The VTK side: made, used and destroyed on the render thread only.
@@ -110,12 +167,20 @@ struct Renderer::Impl {
   struct Gl {
     vtkNew<vtkRenderWindow> window;
     vtkNew<vtkRenderer> renderer;
-    vtkNew<vtkLight> sun;
-    std::vector<vtkSmartPointer<vtkLight>> spots;  // as many as a render has asked for
+    // The colour pass's lights: the day's sun and lamps, then the shade's where some pixel
+    // shows a surface out of full daylight (setLights()); as many as a render has asked for.
+    std::vector<vtkSmartPointer<vtkLight>> lights;
+    std::size_t lights_on = 0;
+    int day_lights = -1;  // what the lit shader's replacements were written for
     // The colour pass's, the id pass's, and the colour pass's for what emits light and for
     // wires (see actor() and render()).
     vtkNew<vtkProperty> lit, unlit, glow, wire;
-    vtkNew<vtkProperty> lit_shade, wire_shade;  // the same for the shade's render
+    // The colour pass's shader replacements and their inputs, for surfaces and wires (see
+    // shadeDeclarations()), and each pixel's share of daylight.
+    vtkNew<vtkOpenGLShaderProperty> lit_shader, wire_shader;
+    ShadeInputs lit_inputs, wire_inputs;
+    vtkNew<vtkCallbackCommand> lit_uniforms, wire_uniforms;
+    vtkNew<vtkTextureObject> shares;
     std::map<const scene::Mesh*, MeshEntry> meshes;
     // Drawn things by (tile, index in the tile; wires after the objects).
     std::map<std::pair<scene::TileIndex, std::uint32_t>, DrawnEntry> drawn;
@@ -146,20 +211,25 @@ struct Renderer::Impl {
     w->SetSize(o.intrinsics.width, o.intrinsics.height);
     w->AddRenderer(gl->renderer);
     gl->renderer->AutomaticLightCreationOff();
-    gl->sun->SetLightTypeToSceneLight();
-    gl->sun->SetPositional(false);
-    gl->renderer->AddLight(gl->sun);
-    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get(), gl->wire.Get(),
-                           gl->lit_shade.Get(), gl->wire_shade.Get()}) {
+    for (vtkProperty* p : {gl->lit.Get(), gl->unlit.Get(), gl->glow.Get(), gl->wire.Get()}) {
       p->SetInterpolationToFlat();
       p->SetSpecular(0.0);
     }
+    // The lit surfaces' and the wires' ambient and diffuse come from the shader's inputs
+    // (ShadeInputs), set per render: the properties never change, so their mappers keep
+    // their buffers.
+    gl->lit->SetAmbient(1.0);
+    gl->lit->SetDiffuse(1.0);
     gl->unlit->LightingOff();  // the id pass: the colour exactly as given
     gl->glow->LightingOff();   // a lamp: its emission colour whatever the lights
-    gl->wire->LightingOff();   // shaded by one factor per render (render())
+    gl->wire->LightingOff();   // shaded by one factor per render (light())
+    gl->wire->SetAmbient(1.0);
     gl->wire->SetDiffuse(0.0);
-    gl->wire_shade->LightingOff();
-    gl->wire_shade->SetDiffuse(0.0);
+    setShaderProperty(gl->wire_shader, false, 0);
+    gl->lit_uniforms->SetCallback(setShadeUniforms);
+    gl->lit_uniforms->SetClientData(&gl->lit_inputs);
+    gl->wire_uniforms->SetCallback(setShadeUniforms);
+    gl->wire_uniforms->SetClientData(&gl->wire_inputs);
     vtkCamera* cam = gl->renderer->GetActiveCamera();
     cam->SetPosition(0.0, 0.0, 0.0);
     cam->SetClippingRange(o.near_m, o.far_m);
@@ -170,6 +240,8 @@ struct Renderer::Impl {
         projection->SetElement(r, c, P(r, c));
     cam->SetExplicitProjectionTransformMatrix(projection);
     cam->UseExplicitProjectionTransformMatrixOn();
+    w->Render();  // nothing yet: the OpenGL context, which the shares' texture needs
+    gl->shares->SetContext(vtkOpenGLRenderWindow::SafeDownCast(w));
   }
 
   static MeshLevel meshLevel(const scene::Mesh& mesh) {
@@ -206,8 +278,10 @@ struct Renderer::Impl {
         m = before;
     }
     MeshLevel& m = e.levels[level];
-    if (!m.mapper)
+    if (!m.mapper) {
       m.mapper = colourMapper(m.lit ? m.lit : m.poly, "albedo");
+      m.mapper->AddObserver(vtkCommand::UpdateShaderEvent, gl->lit_uniforms);
+    }
     if (m.glow && !m.glow_mapper)
       m.glow_mapper = colourMapper(m.glow, "albedo");
     e.used = gl->frame;
@@ -230,10 +304,14 @@ struct Renderer::Impl {
   // is another one, or was modified (vtkOpenGLPolyDataMapper::GetNeedToRebuildBufferObjects):
   // so all actors of a pass share one property, or a mesh shared by many objects would be
   // uploaded again for each of them, every frame.
-  static vtkSmartPointer<vtkActor> actor(vtkPolyDataMapper* mapper, vtkProperty* property) {
+  // The colour pass's lit actors and wires share a shader property too (`shader`).
+  static vtkSmartPointer<vtkActor> actor(vtkPolyDataMapper* mapper, vtkProperty* property,
+                                         vtkShaderProperty* shader = nullptr) {
     auto a = vtkSmartPointer<vtkActor>::New();
     a->SetMapper(mapper);
     a->SetProperty(property);
+    if (shader != nullptr)
+      a->SetShaderProperty(shader);
     a->ForceOpaqueOn();  // saves scanning the colours for alpha on every render
     return a;
   }
@@ -266,7 +344,7 @@ struct Renderer::Impl {
     e.level = level;
     e.triangles = m.levels[level].triangles;
     if (!e.colour[level]) {
-      e.colour[level] = actor(m.levels[level].mapper, gl->lit);
+      e.colour[level] = actor(m.levels[level].mapper, gl->lit, gl->lit_shader);
       e.shares_colour_mapper = true;
       e.id[level] = actor(colourMapper(idPolyData(m.levels[level].poly, e.slot), "id"), gl->unlit);
       if (m.levels[level].glow_mapper)
@@ -275,24 +353,14 @@ struct Renderer::Impl {
     return e;
   }
 
-  // The entry's colour actor for the shade's render at its level, made on first use (an
-  // object's draws its mesh level's shade mapper).
-  void shadeEntry(DrawnEntry& e, const std::shared_ptr<const scene::Mesh>& mesh) {
-    if (e.shaded[e.level])
-      return;
-    MeshLevel& m = gl->meshes.at(mesh.get()).levels[e.level];
-    if (!m.shade_mapper)
-      m.shade_mapper = colourMapper(m.lit ? m.lit : m.poly, "albedo");
-    e.shaded[e.level] = actor(m.shade_mapper, gl->lit_shade);
-  }
-
   DrawnEntry& wireEntry(std::pair<scene::TileIndex, std::uint32_t> key,
                         const std::shared_ptr<const scene::Tile>& tile, const scene::Wire& wire) {
     DrawnEntry& e = entry(key, tile);
     if (!e.colour[0]) {
       const vtkSmartPointer<vtkPolyData> poly = wirePolyData(wire, e.slot);
-      e.colour[0] = actor(colourMapper(poly, "albedo"), gl->wire);
-      e.shaded[0] = actor(colourMapper(poly, "albedo"), gl->wire_shade);
+      const vtkSmartPointer<vtkPolyDataMapper> mapper = colourMapper(poly, "albedo");
+      mapper->AddObserver(vtkCommand::UpdateShaderEvent, gl->wire_uniforms);
+      e.colour[0] = actor(mapper, gl->wire, gl->wire_shader);
       e.id[0] = actor(colourMapper(poly, "id"), gl->unlit);
     }
     return e;
@@ -301,9 +369,8 @@ struct Renderer::Impl {
   // Frees an entry's OpenGL buffers (a shared mesh's go with the mesh's entry) and its slot.
   void drop(DrawnEntry& e) {
     for (int l = 0; l < kLevels; ++l) {
-      for (vtkActor* a : {e.colour[l].Get(), e.shaded[l].Get()})
-        if (a != nullptr && !e.shares_colour_mapper)
-          a->ReleaseGraphicsResources(gl->window);
+      if (e.colour[l] && !e.shares_colour_mapper)
+        e.colour[l]->ReleaseGraphicsResources(gl->window);
       if (e.id[l])
         e.id[l]->ReleaseGraphicsResources(gl->window);
     }
@@ -326,8 +393,7 @@ struct Renderer::Impl {
     for (auto it = gl->meshes.begin(); it != gl->meshes.end();)
       if (it->second.used + kKeepRenders <= gl->frame) {
         for (MeshLevel& m : it->second.levels)
-          for (vtkPolyDataMapper* mapper :
-               {m.mapper.Get(), m.glow_mapper.Get(), m.shade_mapper.Get()})
+          for (vtkPolyDataMapper* mapper : {m.mapper.Get(), m.glow_mapper.Get()})
             if (mapper != nullptr)
               mapper->ReleaseGraphicsResources(gl->window);
         it = gl->meshes.erase(it);
@@ -336,30 +402,61 @@ struct Renderer::Impl {
       }
   }
 
-  // The spot lights, placed relative to the camera (world axes, as the actors); lights made for
-  // an earlier render and not needed now are switched off.
-  void setSpots(const std::vector<Spot>& spots, const Eigen::Matrix3d& R_world_cam) {
-    while (gl->spots.size() < spots.size()) {
-      auto light = vtkSmartPointer<vtkLight>::New();
-      light->SetLightTypeToSceneLight();
-      light->SetPositional(true);
-      gl->renderer->AddLight(light);
-      gl->spots.push_back(light);
+  // The colour pass's lights, placed relative to the camera (world axes, as the actors): the
+  // day's sun and lamps, then, with `shade`, the shade's (its sun only if it shines). The sun
+  // stays on at night, at intensity 0: with no light on at all, VTK would draw every surface
+  // unlit, at its full colour. The renderer holds exactly these, in this order (which of them
+  // is which, the lit shader's replacements are written for: setShaderProperty()).
+  void setLights(const Lighting& day, const Lighting* shade, const Eigen::Matrix3d& R_world_cam) {
+    std::size_t n = 0;
+    const auto next = [&]() -> vtkLight* {
+      if (gl->lights.size() <= n) {
+        auto light = vtkSmartPointer<vtkLight>::New();
+        light->SetLightTypeToSceneLight();
+        gl->lights.push_back(light);
+      }
+      return gl->lights[n++];
+    };
+    const auto sun = [&](const Lighting& l) {
+      vtkLight* light = next();
+      light->SetPositional(false);
+      light->SetPosition(l.sun_direction.data());
+      light->SetFocalPoint(0.0, 0.0, 0.0);
+      light->SetIntensity(l.sun_intensity);
+    };
+    const auto spots = [&](const Lighting& l) {
+      for (const Spot& s : l.spots) {
+        vtkLight* light = next();
+        const Eigen::Vector3d p = R_world_cam * s.position;
+        const Eigen::Vector3d f = p + R_world_cam * s.direction;
+        light->SetPositional(true);
+        light->SetPosition(p.data());
+        light->SetFocalPoint(f.data());
+        light->SetConeAngle(s.half_angle_deg);
+        light->SetExponent(2.0);  // brightest on the axis, fading towards the cone's edge
+        light->SetAttenuationValues(1.0, 0.0, 1.0 / (s.half_distance_m * s.half_distance_m));
+        light->SetIntensity(s.intensity);
+      }
+    };
+    sun(day);
+    spots(day);
+    const int day_lights = static_cast<int>(n);
+    if (shade != nullptr) {
+      if (shade->sun_intensity > 0.0)
+        sun(*shade);
+      spots(*shade);
     }
-    for (std::size_t i = 0; i < gl->spots.size(); ++i) {
-      vtkLight* light = gl->spots[i];
-      light->SetSwitch(i < spots.size());
-      if (i >= spots.size())
-        continue;
-      const Spot& s = spots[i];
-      const Eigen::Vector3d p = R_world_cam * s.position;
-      const Eigen::Vector3d f = p + R_world_cam * s.direction;
-      light->SetPosition(p.data());
-      light->SetFocalPoint(f.data());
-      light->SetConeAngle(s.half_angle_deg);
-      light->SetExponent(2.0);  // brightest on the axis, fading towards the cone's edge
-      light->SetAttenuationValues(1.0, 0.0, 1.0 / (s.half_distance_m * s.half_distance_m));
-      light->SetIntensity(s.intensity);
+    if (n > static_cast<std::size_t>(kMostLights))
+      throw ConfigError("camera: more than 16 lights (a sun and lamps, by day and in the shade)");
+    if (n != gl->lights_on) {  // a light added or taken away: the shaders are written again
+      gl->renderer->RemoveAllLights();
+      for (std::size_t i = 0; i < n; ++i)
+        gl->renderer->AddLight(gl->lights[i]);
+      gl->lights_on = n;
+    }
+    if (day_lights != gl->day_lights) {
+      setShaderProperty(gl->lit_shader, true, day_lights);
+      gl->day_lights = day_lights;
     }
   }
 
@@ -390,29 +487,45 @@ struct Renderer::Impl {
       props->AddItem(a);
   }
 
-  // Sets the colour pass's lights and sky: the sun, the sky's share, the spots.
-  // `lit` and `wire`: the pass's properties (each pass has its own: modifying one makes every
-  // mapper drawing with it rebuild its buffers).
-  void light(const Lighting& lighting, const Eigen::Matrix3d& R_world_cam, vtkProperty* lit,
-             vtkProperty* wire) {
-    lit->SetAmbient(lighting.ambient);  // modified (buffers rebuilt) only on a change
-    lit->SetDiffuse(1.0 - lighting.ambient);
+  // Sets the colour pass's lights, the shader's inputs and the sky: by day where `shares` is
+  // null, else each surface by its share of daylight (`shares`: the pixels' shares, rows top
+  // to bottom), lit by `day` and `shade` in proportion. The sky is the day's.
+  void light(const Intrinsics& k, const Lighting& day, const Lighting* shade,
+             const std::vector<float>* shares, const Eigen::Matrix3d& R_world_cam) {
+    const Lighting& dark = shares != nullptr ? *shade : day;
+    setLights(day, shares != nullptr ? shade : nullptr, R_world_cam);
+    gl->lit_inputs.light = {static_cast<float>(day.ambient), static_cast<float>(dark.ambient),
+                            static_cast<float>(1.0 - day.ambient),
+                            static_cast<float>(1.0 - dark.ambient)};
     // A wire is a line, which has no normal for VTK to light: it is shaded by one factor, the
     // sky's light and half the sun's (the mean over a thin cylinder's faces, roughly), so it
     // is dark at night instead of drawn at its full colour.
-    wire->SetAmbient(lighting.ambient + 0.5 * (1.0 - lighting.ambient) * lighting.sun_intensity);
-    gl->sun->SetPosition(lighting.sun_direction.data());
-    gl->sun->SetFocalPoint(0.0, 0.0, 0.0);
-    // The sun stays switched on at night, at intensity 0: with no light on at all, VTK would
-    // draw every surface unlit, at its full colour.
-    gl->sun->SetIntensity(lighting.sun_intensity);
-    setSpots(lighting.spots, R_world_cam);
+    const auto wire = [](const Lighting& l) {
+      return static_cast<float>(l.ambient + 0.5 * (1.0 - l.ambient) * l.sun_intensity);
+    };
+    gl->wire_inputs.light = {wire(day), wire(dark), 0.0f, 0.0f};
+    // The shares' texture is bound whether it is read or not: a sampler left on a unit that
+    // VTK binds a texture of another type to (a mapper's cell colours) stops every draw.
+    if (shares != nullptr) {
+      // The texture's rows are OpenGL's, bottom-up.
+      std::vector<float> rows(shares->size());
+      for (int y = 0; y < k.height; ++y)
+        std::copy_n(shares->data() + static_cast<std::size_t>(y) * k.width, k.width,
+                    rows.data() + static_cast<std::size_t>(k.height - 1 - y) * k.width);
+      gl->shares->Create2DFromRaw(k.width, k.height, 1, VTK_FLOAT, rows.data());
+    } else if (gl->shares->GetWidth() != 1 || gl->shares->GetHeight() != 1) {
+      float full = 1.0f;
+      gl->shares->Create2DFromRaw(1, 1, 1, VTK_FLOAT, &full);
+    }
+    gl->shares->Activate();
+    gl->lit_inputs.unit = gl->wire_inputs.unit = gl->shares->GetTextureUnit();
+    gl->lit_inputs.shaded = gl->wire_inputs.shaded = shares != nullptr ? 1 : 0;
     vtkRenderer* ren = gl->renderer;
     ren->GradientBackgroundOn();
-    ren->SetBackground(lighting.sky_horizon[0] / 255.0, lighting.sky_horizon[1] / 255.0,
-                       lighting.sky_horizon[2] / 255.0);
-    ren->SetBackground2(lighting.sky_zenith[0] / 255.0, lighting.sky_zenith[1] / 255.0,
-                        lighting.sky_zenith[2] / 255.0);
+    ren->SetBackground(day.sky_horizon[0] / 255.0, day.sky_horizon[1] / 255.0,
+                       day.sky_horizon[2] / 255.0);
+    ren->SetBackground2(day.sky_zenith[0] / 255.0, day.sky_zenith[1] / 255.0,
+                        day.sky_zenith[2] / 255.0);
   }
 
   // The window's colour, 3 bytes a pixel, rows top to bottom (OpenGL's are bottom-up).
@@ -480,7 +593,7 @@ struct Renderer::Impl {
     const Eigen::Vector3d origin = T_world_cam.translation();
     const Frustum frustum(k, o.near_m, o.far_m, T_world_cam.inverse());
     std::vector<DrawnEntry*> list;
-    // Whether a thing may show in the shade's render (worked out once: things do not move).
+    // Whether a thing may be out of full daylight (worked out once: things do not move).
     const auto noteShade = [&](DrawnEntry& e, const scene::Box3d& box) {
       if (e.shade < 0)
         e.shade = !o.shade_meets || o.shade_meets(box) ? 1 : 0;
@@ -493,8 +606,6 @@ struct Renderer::Impl {
         DrawnEntry& e = objectEntry({tile->index, static_cast<std::uint32_t>(i)}, tile, object,
                                     levelOf(object, origin, std::max(k.fx, k.fy), o.lod_pixels));
         noteShade(e, object.bounds);
-        if (e.shade == 1 && shade != nullptr && o.daylight)
-          shadeEntry(e, object.mesh);
         place(e, object.linear.cast<double>(), object.position - origin);
         list.push_back(&e);
         noteInstance(out, e.slot, object.instance);
@@ -526,57 +637,14 @@ struct Renderer::Impl {
 
     const std::size_t pixels = static_cast<std::size_t>(k.width) * k.height;
     vtkRenderer* ren = gl->renderer;
-    std::vector<vtkActor*> actors(list.size());
-    if (o.passes.rgb || o.passes.depth) {
-      actors.clear();
-      for (const DrawnEntry* e : list) {
-        actors.push_back(e->colourActor());
-        if (vtkActor* glow = e->glowActor())
-          actors.push_back(glow);
-      }
-      show(actors);
-      ren->SetUseFXAA(o.fxaa && o.passes.rgb);
-      light(lighting, R, gl->lit, gl->wire);
-      gl->window->Render();
-      // The colour and depth images (rows top to bottom), and each pixel's daylight share when
-      // some surface in view is in the shade.
-      if (o.passes.rgb)
-        out.rgb = readColour(k);
-      // Only a frame in which something drawn may be out of full daylight pays for the shares.
-      const bool shaded =
-          shade != nullptr && o.daylight && o.passes.rgb &&
-          std::any_of(list.begin(), list.end(), [](const DrawnEntry* e) { return e->shade == 1; });
-      std::vector<float> z;
-      if (o.passes.depth || shaded)
-        z = readDepth(k, o);
-      if (shaded) {
-        const std::vector<float> day = daylightShares(k, o, z, T_world_cam);
-        if (std::any_of(day.begin(), day.end(), [](float d) { return d < 1.0f; })) {
-          // Only what may be in the shade: what a shaded pixel shows is among it, and nothing
-          // else of it lies nearer there (it would have been drawn there by day).
-          actors.clear();
-          for (const DrawnEntry* e : list)
-            if (e->shade == 1) {
-              if (vtkActor* a = e->shadeActor())
-                actors.push_back(a);
-              if (vtkActor* glow = e->glowActor())
-                actors.push_back(glow);
-            }
-          show(actors);
-          light(*shade, R, gl->lit_shade, gl->wire_shade);
-          gl->window->Render();
-          const std::vector<std::uint8_t> dark = readColour(k);
-          for (std::size_t i = 0; i < pixels; ++i)
-            for (std::size_t c = 0; c < 3; ++c) {
-              const double a = out.rgb[3 * i + c], b = dark[3 * i + c];
-              out.rgb[3 * i + c] = static_cast<std::uint8_t>(std::lround(b + day[i] * (a - b)));
-            }
-        }
-      }
-      if (o.passes.depth)
-        out.depth = std::move(z);
-    }
-    if (o.passes.semantic || o.passes.instance) {
+    std::vector<vtkActor*> actors;
+    // Only a frame in which something drawn may be out of full daylight pays for the shares:
+    // the id pass is drawn first then, and its depth gives each pixel's surface.
+    const bool may_shade =
+        shade != nullptr && o.daylight && o.passes.rgb &&
+        std::any_of(list.begin(), list.end(), [](const DrawnEntry* e) { return e->shade == 1; });
+    std::vector<float> z;  // metres along the optical axis, 0 where nothing is drawn
+    if ((o.passes.semantic || o.passes.instance || may_shade)) {
       actors.resize(list.size());
       std::transform(list.begin(), list.end(), actors.begin(),
                      [](const DrawnEntry* e) { return e->idActor(); });
@@ -585,29 +653,56 @@ struct Renderer::Impl {
       ren->SetUseFXAA(false);  // ids are never blended
       ren->SetBackground(scene::cls::kSky / 255.0, 0.0, 0.0);
       gl->window->Render();
+      // What the depth buffer holds at the far plane is nothing drawn, as the depth image
+      // reads it: a fragment within a rounding of the far plane is drawn into the ids but
+      // leaves the depth buffer at 1, and would be a class without a depth. The colour pass
+      // draws the same triangles at the same places: its depth is this.
+      z = readDepth(k, o);
       vtkNew<vtkUnsignedCharArray> ids;
-      gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, ids, 0);
-      // What the depth buffer holds at the far plane is nothing drawn, as the depth image reads
-      // it (readDepth): a fragment within a rounding of the far plane is drawn into the ids but
-      // leaves the depth buffer at 1, and would be a class without a depth.
-      vtkNew<vtkFloatArray> z;
-      gl->window->GetZbufferData(0, 0, k.width - 1, k.height - 1, z);
+      if (o.passes.semantic || o.passes.instance)
+        gl->window->GetPixelData(0, 0, k.width - 1, k.height - 1, 0, ids, 0);
       if (o.passes.semantic)
         out.semantic.resize(pixels);
       if (o.passes.instance)
         out.object.resize(pixels);
-      for (int y = 0; y < k.height; ++y)
+      for (int y = 0; y < k.height && (o.passes.semantic || o.passes.instance); ++y)
         for (int x = 0; x < k.width; ++x) {
-          const vtkIdType at = static_cast<vtkIdType>(y) * k.width + x;
-          const unsigned char* c = ids->GetPointer(3 * at);
-          const bool drawn = z->GetValue(at) < 1.0f;
+          const unsigned char* c = ids->GetPointer(3 * (static_cast<vtkIdType>(y) * k.width + x));
           const std::size_t i = static_cast<std::size_t>(k.height - 1 - y) * k.width + x;
+          const bool drawn = z[i] > 0.0f;
           if (o.passes.semantic)
             out.semantic[i] = drawn ? c[0] : scene::cls::kSky;
           if (o.passes.instance)
             out.object[i] = drawn ? static_cast<std::uint16_t>(c[1] << 8 | c[2]) : 0;
         }
     }
+    if (o.passes.rgb || (o.passes.depth && z.empty())) {
+      // Each surface lit by its share of daylight where some pixel shows one out of full
+      // daylight; by day everywhere else.
+      std::vector<float> day;
+      if (may_shade) {
+        day = daylightShares(k, o, z, T_world_cam);
+        if (std::all_of(day.begin(), day.end(), [](float d) { return d >= 1.0f; }))
+          day.clear();
+      }
+      actors.clear();
+      for (const DrawnEntry* e : list) {
+        actors.push_back(e->colourActor());
+        if (vtkActor* glow = e->glowActor())
+          actors.push_back(glow);
+      }
+      show(actors);
+      ren->SetUseFXAA(o.fxaa && o.passes.rgb);
+      light(k, lighting, shade, day.empty() ? nullptr : &day, R);
+      gl->window->Render();
+      gl->shares->Deactivate();
+      if (o.passes.rgb)
+        out.rgb = readColour(k);
+      if (z.empty() && o.passes.depth)
+        z = readDepth(k, o);
+    }
+    if (o.passes.depth)
+      out.depth = std::move(z);
     show({});
     forget();
     return out;

@@ -69,8 +69,8 @@ struct RendererOptions {
   /// not reach.
   std::function<void(std::span<const Eigen::Vector3d> points, std::span<float> shares)> daylight;
   /// Whether some point of a world box may be out of full daylight (false only where the
-  /// daylight function gives 1 throughout); empty: anywhere. The shade's render draws only the
-  /// things whose boxes may, the rest cannot be what a shaded pixel shows.
+  /// daylight function gives 1 throughout); empty: anywhere. A frame in which nothing drawn
+  /// may be works out no shares.
   std::function<bool(const scene::Box3d& box)> shade_meets;
 };
 
@@ -106,11 +106,11 @@ class Renderer {
 
   /// `T_world_cam`: the camera's pose (camera axes as camera_model.hpp, world double).
   /// `shade` (optional, with RendererOptions::daylight): the lighting of surfaces no daylight
-  /// reaches (a tunnel's: the lamps, no sun). Each pixel of the colour image is then the blend
-  /// of the two renders by the daylight share of the surface it shows (its point from the
-  /// depth buffer): light is linear in the share, and VTK casts no shadows to do it instead.
-  /// The second render is made only when some pixel shows a surface daylight does not fully
-  /// reach. The sky is the sky either way.
+  /// reaches (a tunnel's: the lamps, no sun). Each surface of the colour image is then lit by
+  /// both in proportion to the daylight share of the surface a pixel shows (its point from the
+  /// id pass's depth, drawn first): the blend of what the two lightings would draw, as light is
+  /// linear in the share, in one colour pass (VTK casts no shadows to do it instead). The sky
+  /// is the sky either way.
   CameraImages render(const scene::SceneWindow& window, const Eigen::Isometry3d& T_world_cam,
                       const Lighting& lighting, const Lighting* shade = nullptr) const;
 
