@@ -186,6 +186,31 @@ for line in open(sys.argv[1]).read().splitlines()[1:]:
         signals += 1
 assert signals > 10, signals
 PY
+# Obstacle detection: the default scenario's three obstacles (a person crossing the double track,
+# a car and a cow in the fields) are listed with their class and track, and the LiDAR's labels
+# hold points of each class.
+python3 - "$WORK/a/sequences/00" "$WORK/obstacles.txt" <<'PY' && pass "obstacles seen: $(cat "$WORK/obstacles.txt")" || fail "obstacles"
+import array, os, sys
+seq = sys.argv[1]
+seen, ids = {}, {}
+for line in open(os.path.join(seq, "instances.csv")).read().splitlines()[1:]:
+    instance, scene, cls, track, state = line.split(",")
+    if int(scene) >> 56 == 1 and (int(scene) >> 36) & 0xFF == 13:
+        seen[int(scene) & 0xFFFFFFFFF] = (cls, track)
+        ids[int(instance)] = cls
+assert seen == {0: ("person", "1"), 1: ("car", "0"), 2: ("animal", "0")}, seen
+points = {18: 0, 19: 0, 20: 0}
+for name in sorted(os.listdir(os.path.join(seq, "labels"))):
+    labels = array.array("I")
+    with open(os.path.join(seq, "labels", name), "rb") as f:
+        labels.frombytes(f.read())
+    for label in labels:
+        if label & 0xFFFF in points:
+            points[label & 0xFFFF] += 1
+            assert ids[label >> 16] == {18: "person", 19: "car", 20: "animal"}[label & 0xFFFF], label
+assert all(n > 0 for n in points.values()), points
+open(sys.argv[2], "w").write(f"LiDAR points person {points[18]}, car {points[19]}, animal {points[20]}")
+PY
 # Track discrimination: instances.csv gives each rail's layout track, and the LiDAR's rail points
 # 5-15 m ahead lie within 1 m of the sensor's axis exactly when their rail is the train's own
 # track 0 (the others are 4 m and more to the side).

@@ -42,7 +42,10 @@ TEST(SemanticTable, NamedIdsMatchTheTable) {
                                                             {scene::cls::kTunnel, "tunnel"},
                                                             {scene::cls::kBridge, "bridge"},
                                                             {scene::cls::kSignal, "signal"},
-                                                            {scene::cls::kSky, "sky"}};
+                                                            {scene::cls::kSky, "sky"},
+                                                            {scene::cls::kPerson, "person"},
+                                                            {scene::cls::kCar, "car"},
+                                                            {scene::cls::kAnimal, "animal"}};
   for (const auto& [id, name] : classes)
     EXPECT_EQ(scene::classId(name), id) << name;
   const std::pair<scene::MaterialId, const char*> materials[] = {
@@ -71,7 +74,13 @@ TEST(SemanticTable, NamedIdsMatchTheTable) {
       {scene::mat::kSignalLensGreen, "signal_lens_green"},
       {scene::mat::kSignalLampRed, "signal_lamp_red"},
       {scene::mat::kSignalLampYellow, "signal_lamp_yellow"},
-      {scene::mat::kSignalLampGreen, "signal_lamp_green"}};
+      {scene::mat::kSignalLampGreen, "signal_lamp_green"},
+      {scene::mat::kClothing, "clothing"},
+      {scene::mat::kSkin, "skin"},
+      {scene::mat::kCarPaint, "car_paint"},
+      {scene::mat::kGlass, "glass"},
+      {scene::mat::kRubber, "rubber"},
+      {scene::mat::kHide, "hide"}};
   for (const auto& [id, name] : materials)
     EXPECT_EQ(scene::materialId(name), id) << name;
   for (const auto& m : scene::materials()) {

@@ -2,7 +2,8 @@
 // the track frames, masts out of tunnels and their portals, booms over another track's wires,
 // the messenger under a tunnel's lining, the cut ground under the tube's shell, bridge decks and
 // piers, each signal's lit aspect and the way it faces (the track bed, fences, platforms, the
-// clearance of masts and signals, and objects: environment_assets_test.cpp).
+// clearance of masts and signals, and objects: environment_assets_test.cpp), and the obstacles
+// a scenario places.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -467,6 +468,74 @@ TEST(Signals, EachSignalFacesTheTrainsItGoverns) {
   EXPECT_EQ((seen[{0, true}]), 0);
   EXPECT_GE((seen[{1, false}]), 10);
   EXPECT_GE((seen[{1, true}]), 10);
+}
+
+TEST(Obstacles, StandWhereTheScenarioPutsThemAsObjectsOfTheirOwn) {
+  // A person on the main track's sleepers, a car across the double track, a cow in the field:
+  // each one object of its kind's class, on its track (instances.csv's track), its feet on the
+  // sleepers' tops or on the ground, facing the way heading_deg says, in one tile only.
+  Json patch;
+  patch["objects"]["obstacles"] = Json::array(
+      {{{"kind", "person"}, {"chainage_m", 300.0}, {"offset_m", 0.2}, {"heading_deg", 180.0}},
+       {{"kind", "car"}, {"track", 1}, {"chainage_m", 700.0}, {"offset_m", 0.0}},
+       {{"kind", "cow"}, {"chainage_m", 900.0}, {"offset_m", 7.0}, {"heading_deg", 45.0}},
+       {{"kind", "car"}, {"track", 9}, {"chainage_m", 300.0}},
+       {{"kind", "car"}, {"chainage_m", 9000.0}}});
+  const World w = makeWorld(patch);
+  const std::vector<environment::Obstacle>& list = w.env().params().objects.obstacles;
+  ASSERT_EQ(list.size(), 5u);
+  // The last two cannot stand where they are put (no track 9; the route is 6 km): left out.
+  EXPECT_EQ(environment::obstacleOffTheLayout(w.railway().layout(), list[3]),
+            "the layout has no track 9 (it has 3: railroad.json lists them, 0 the main track)");
+  EXPECT_EQ(environment::obstacleOffTheLayout(w.railway().layout(), list[4]),
+            "9000 m is not on track 0, which runs from main chainage 0.0 to 6000.0 m");
+  const scene::ClassId classes[] = {scene::cls::kPerson, scene::cls::kCar, scene::cls::kAnimal};
+  const double heights[] = {1.75, 1.45, 1.42};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_FALSE(environment::obstacleOffTheLayout(w.railway().layout(), list[i])) << i;
+    const environment::Obstacle& ob = list[i];
+    const track::TrackFrame f = w.railway().frame(ob.track, ob.chainage_m);
+    const Eigen::Vector3d over = f.position + ob.offset_m * f.left;
+    // The tiles around it: the object is in exactly one of them.
+    std::vector<const scene::Object*> found;
+    std::vector<std::shared_ptr<const scene::Tile>> tiles;
+    const scene::TileGrid grid = w.env().grid();
+    const scene::TileIndex at = grid.tileAt(over.x(), over.y());
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        if (w.env().tiles().contains({at.i + di, at.j + dj}))
+          tiles.push_back(w.env().tile({at.i + di, at.j + dj}));
+    for (const auto& tile : tiles)
+      for (const scene::Object& o : tile->objects) {
+        const auto asset = scene::trackAsset(o.instance);
+        EXPECT_FALSE(asset && asset->kind == 13 && asset->index >= 3);
+        if (asset && asset->kind == 13 && asset->index == static_cast<std::int64_t>(i))
+          found.push_back(&o);
+      }
+    ASSERT_EQ(found.size(), 1u) << i;
+    const scene::Object& o = *found.front();
+    EXPECT_EQ(w.env().trackOf(o.instance), ob.track);
+    for (const scene::MeshPart& part : o.mesh->parts)
+      EXPECT_EQ(part.cls, classes[i]) << i;
+    // Feet: on the sleepers' tops (182 mm under the top of rail) on the track, on the ground
+    // off it; as tall as its kind along the local vertical.
+    double low = 1e300, high = -1e300;
+    const Eigen::Vector3d up = o.linear.col(2).cast<double>();
+    for (std::uint32_t v = 0; v < o.mesh->vertices.size(); ++v) {
+      low = std::min(low, (o.worldVertex(v) - over).dot(up));
+      high = std::max(high, (o.worldVertex(v) - over).dot(up));
+    }
+    const double foot = std::abs(ob.offset_m) <= 1.3
+                            ? -0.182 * f.up.dot(up)
+                            : w.env().terrain().heightAt(over.x(), over.y()) - over.z();
+    EXPECT_NEAR(low, foot, 0.01) << i;
+    EXPECT_NEAR(high - low, heights[i], 0.01) << i;
+    // Facing: the object's x is the track's direction turned by heading_deg about the vertical.
+    const Eigen::Vector3d forward = o.linear.col(0).cast<double>();
+    const Eigen::Vector3d t = (f.tangent - f.tangent.dot(up) * up).normalized();
+    const double heading = std::atan2(up.dot(t.cross(forward)), t.dot(forward));
+    EXPECT_NEAR(heading, std::remainder(ob.heading_rad, 2.0 * M_PI), 1e-5) << i;
+  }
 }
 
 }  // namespace

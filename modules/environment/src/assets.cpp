@@ -250,17 +250,12 @@ std::pair<double, double> outermostOffsets(const track::Layout& layout, double x
 
 // --- rails, sleepers, ballast ------------------------------------------------------------------
 
-namespace {
-constexpr double kRailPad_m = 0.010;  // rail pad and plate between the rail foot and the sleeper
-constexpr double kRailHeight_m = 0.172;
-}  // namespace
-
 void addTrackAssets(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
   const double formation = ctx.env.params().terrain.formation_depth_m;
   const auto profile = inclinedProfile(A.rail_inclination);
   const double centre = 0.5 * A.gauge_m + gaugeFaceOffset(A.rail_inclination);
-  const double sleeper_top = -kRailHeight_m - kRailPad_m;
+  const double sleeper_top = -kSleeperTopDepth_m;
   const double ballast_top = sleeper_top - 0.03;  // the crib a little below the sleeper tops
   const double half_top = 0.5 * A.sleeper_length_m + A.ballast_shoulder_m;
   const double half_bottom = half_top + A.ballast_slope * (formation + ballast_top);

@@ -23,8 +23,13 @@ enum AssetKind : int {
   kTunnel = 9,
   kBridge = 10,
   kFence = 11,
-  kSignal = 12
+  kSignal = 12,
+  kObstacle = 13
 };
+
+/// The sleepers' tops below the top of rail: the 60E1 rail's 172 mm and 10 mm of rail pad and
+/// plate.
+inline constexpr double kSleeperTopDepth_m = 0.172 + 0.010;
 
 /// Added to a signal's index (its block's id) when it governs the trains running against the
 /// main chainage.
@@ -139,5 +144,8 @@ void addTrackAssets(TileContext& ctx);
 void addCatenary(TileContext& ctx);
 void addStructures(TileContext& ctx);
 void addFencesAndSignals(TileContext& ctx);
+
+/// The obstacles placed by hand (ObjectParams::obstacles) whose feet lie in the tile.
+void addObstacles(TileContext& ctx);
 
 }  // namespace trainsim::environment::detail

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 
 #include "assets.hpp"
@@ -11,6 +13,20 @@
 #include "trainsim/track/earth.hpp"
 
 namespace trainsim::environment {
+
+std::optional<std::string> obstacleOffTheLayout(const track::Layout& layout, const Obstacle& o) {
+  if (o.track < 0 || o.track >= static_cast<int>(layout.tracks.size()))
+    return fmt::format(
+        "the layout has no track {} (it has {}: railroad.json lists them, 0 the "
+        "main track)",
+        o.track, layout.tracks.size());
+  const track::LayoutTrack& t = layout.tracks[static_cast<std::size_t>(o.track)];
+  if (!(o.chainage_m >= t.main_chainage_begin_m && o.chainage_m <= t.main_chainage_end_m))
+    return fmt::format(
+        "{:g} m is not on track {}, which runs from main chainage {:.1f} to {:.1f} m", o.chainage_m,
+        o.track, t.main_chainage_begin_m, t.main_chainage_end_m);
+  return std::nullopt;
+}
 
 Environment::Environment(std::shared_ptr<const terrain::Railway> railway, EnvironmentParams params,
                          std::uint64_t seed)
@@ -61,6 +77,43 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
     }
     signals_[static_cast<std::size_t>(aspect)] = std::move(signal);
   }
+  // Obstacles: a person 1.75 m tall, a car 4.4 m long, a cow; x the way each faces, y to its
+  // left, z up from its feet.
+  {
+    using V = Eigen::Vector3f;
+    auto person = std::make_shared<scene::Mesh>();
+    person->beginPart(scene::cls::kPerson, scene::mat::kClothing);
+    for (const float y : {0.1f, -0.1f})  // legs
+      scene::addCylinder(*person, V(0, y, 0), V(0, y, 0.87f), 0.075f, 0.065f, 8);
+    scene::addBox(*person, V(-0.12f, -0.21f, 0.85f), V(0.12f, 0.21f, 1.46f));  // torso
+    for (const float y : {0.26f, -0.26f})                                      // arms
+      scene::addCylinder(*person, V(0.02f, y, 0.82f), V(0, y, 1.43f), 0.045f, 0.055f, 8);
+    person->beginPart(scene::cls::kPerson, scene::mat::kSkin);
+    scene::addCylinder(*person, V(0, 0, 1.45f), V(0, 0, 1.75f), 0.095f, 0.09f, 10);  // head
+    auto car = std::make_shared<scene::Mesh>();
+    car->beginPart(scene::cls::kCar, scene::mat::kCarPaint);
+    scene::addBox(*car, V(-2.2f, -0.88f, 0.3f), V(2.2f, 0.88f, 0.95f));    // body
+    scene::addBox(*car, V(-1.05f, -0.78f, 1.38f), V(0.8f, 0.78f, 1.45f));  // roof
+    car->beginPart(scene::cls::kCar, scene::mat::kGlass);
+    scene::addBox(*car, V(-1.1f, -0.8f, 0.95f), V(0.85f, 0.8f, 1.38f));  // windows
+    car->beginPart(scene::cls::kCar, scene::mat::kRubber);
+    for (const float x : {1.35f, -1.35f})
+      for (const float y : {0.9f, -0.9f})
+        scene::addCylinder(*car, V(x, y * 0.75f, 0.32f), V(x, y, 0.32f), 0.32f, 0.32f, 12);
+    auto cow = std::make_shared<scene::Mesh>();
+    cow->beginPart(scene::cls::kAnimal, scene::mat::kHide);
+    scene::addBox(*cow, V(-0.8f, -0.3f, 0.72f), V(0.7f, 0.3f, 1.38f));   // body
+    scene::addBox(*cow, V(0.62f, -0.13f, 1.0f), V(1.2f, 0.13f, 1.42f));  // neck and head
+    for (const float x : {0.55f, -0.65f})
+      for (const float y : {0.2f, -0.2f})
+        scene::addCylinder(*cow, V(x, y, 0), V(x, y, 0.76f), 0.065f, 0.075f, 8);
+    for (const auto& [kind, mesh] :
+         {std::pair{ObstacleKind::kPerson, person}, std::pair{ObstacleKind::kCar, car},
+          std::pair{ObstacleKind::kCow, cow}}) {
+      mesh->prototype = true;
+      obstacles_[static_cast<std::size_t>(kind)] = mesh;
+    }
+  }
   if (const track::EarthPlacement* earth = railway_->main().earth())
     anchor_.emplace(earth->anchor());
   const auto& tracks = railway_->layout().tracks;
@@ -108,6 +161,7 @@ std::optional<int> Environment::trackOf(scene::InstanceId instance) const {
     case detail::kMessenger:
     case detail::kDropper:
     case detail::kSignal:
+    case detail::kObstacle:
       return asset->track_id;
     default:
       return std::nullopt;
@@ -158,6 +212,7 @@ std::shared_ptr<const scene::Tile> Environment::tile(scene::TileIndex index,
   detail::addCatenary(ctx);
   detail::addStructures(ctx);
   detail::addFencesAndSignals(ctx);
+  detail::addObstacles(ctx);
   throwIfCancelled();
   // Trees, rocks and buildings stand along the local vertical (TileContext::up).
   const Eigen::Matrix3d level = tile->level;

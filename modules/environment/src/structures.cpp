@@ -1,4 +1,5 @@
-// Platforms, tunnels, bridges, fences and signals along the main track.
+// Platforms, tunnels, bridges, fences and signals along the main track; obstacles placed by
+// hand.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -304,6 +305,31 @@ void addFencesAndSignals(TileContext& ctx) {
           scene::Object::place(ctx.env.signalPrototype(*ctx.env.signalAspect(instance)), p,
                                axes.cast<float>(), instance));
     }
+  }
+}
+
+void addObstacles(TileContext& ctx) {
+  const std::vector<Obstacle>& list = ctx.env.params().objects.obstacles;
+  const terrain::Railway& railway = ctx.env.railway();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const Obstacle& o = list[i];
+    if (obstacleOffTheLayout(railway.layout(), o))
+      continue;
+    const track::TrackFrame f = railway.frame(o.track, o.chainage_m);
+    // On the sleepers' tops within 1.3 m of the track's centre (canted with the track), on the
+    // ground beyond; upright along the local vertical either way.
+    const Eigen::Vector3d over = f.position + o.offset_m * f.left;
+    const Eigen::Vector3d foot = std::abs(o.offset_m) <= 1.3
+                                     ? Eigen::Vector3d(over - kSleeperTopDepth_m * f.up)
+                                     : ctx.ground(over);
+    if (!ctx.owns(foot))
+      continue;
+    const Eigen::Matrix3d axes =
+        ctx.upright(f.tangent) *
+        Eigen::AngleAxisd(o.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    ctx.tile.objects.push_back(scene::Object::place(
+        ctx.env.obstaclePrototype(o.kind), foot, axes.cast<float>(),
+        scene::trackAssetInstance(o.track, kObstacle, static_cast<std::int64_t>(i))));
   }
 }
 

@@ -274,6 +274,12 @@ Plan Planner::plan(const scenario::Scenario& sc) {
     motion_ = buildMotion(sc, route_, motion_key);
     ++motion_builds_;
   }
+  // Obstacles stand on the layout's tracks: one that cannot is left out, said here (validate
+  // says so too).
+  const auto obstacles = objectsSection().read(sc.json()).obstacles;
+  for (std::size_t i = 0; i < obstacles.size(); ++i)
+    if (const auto why = environment::obstacleOffTheLayout(layout_->layout, obstacles[i]))
+      logWarn(fmt::format("objects.obstacles[{}] left out: {}", i, *why));
   Plan plan(route_, layout_, motion_);
   const track::Route& route = plan.route().route;
   logInfo(fmt::format(

@@ -169,6 +169,30 @@ const scenario::Section<environment::AssetParams>& assetsSection() {
   return section;
 }
 
+const Binding<environment::Obstacle>& obstacleBinding() {
+  static const Binding<environment::Obstacle> binding = [] {
+    using Ob = environment::Obstacle;
+    Binding<Ob> b;
+    b.choice("kind", &Ob::kind,
+             "What stands there: a person (1.75 m), a car (4.4 m, at a level crossing) or a cow; "
+             "classes person, car and animal");
+    b.integer("track", &Ob::track, "",
+              "Layout track it stands on or beside (railroad.json's id; 0 the main track)")
+        .range(0, 1000);
+    b.number("chainage_m", &Ob::chainage_m, kM, "Main chainage (on the track's stretch)")
+        .range(0, 1e7);
+    b.number("offset_m", &Ob::offset_m, kM,
+             "From the track's centre, + left: on the sleepers within 1.3 m, on the ground beyond")
+        .range(-50, 50);
+    b.number("heading_deg", &Ob::heading_rad, units::kDegree,
+             "Which way it faces, counter-clockwise from the track's direction (90: across it, "
+             "to the left)")
+        .range(-360, 360);
+    return b;
+  }();
+  return binding;
+}
+
 const scenario::Section<environment::ObjectParams>& objectsSection() {
   static const scenario::Section<environment::ObjectParams> section = [] {
     using O = environment::ObjectParams;
@@ -183,6 +207,12 @@ const scenario::Section<environment::ObjectParams>& objectsSection() {
           std::string(kinds[k].name),
           [k](O& o) -> environment::ObjectKindParams& { return o.kinds[k]; }, objectKindBinding(),
           std::string(kinds[k].description));
+    b.array("obstacles", &O::obstacles, obstacleBinding(), "One obstacle.",
+            "Obstacles placed by hand on or beside the tracks, the positives of obstacle "
+            "detection: each an object of its own (instances.csv gives its track). One on a "
+            "track the layout does not have, or off its track's stretch, is left out with a "
+            "warning")
+        .maxItems(10000);
     return s;
   }();
   return section;

@@ -3,13 +3,17 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <set>
+#include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/geodesy.hpp"
 #include "trainsim/scene/scene.hpp"
 #include "trainsim/terrain/railway.hpp"
@@ -77,11 +81,36 @@ struct ObjectKind {
 };
 std::span<const ObjectKind> objectKinds();
 
+/// What stands in the way: obstacle detection's positives.
+enum class ObstacleKind { kPerson, kCar, kCow };
+inline constexpr EnumName<ObstacleKind> kObstacleKindNames[] = {
+    {ObstacleKind::kPerson, "person"}, {ObstacleKind::kCar, "car"}, {ObstacleKind::kCow, "cow"}};
+constexpr std::span<const EnumName<ObstacleKind>> enumNames(ObstacleKind) {
+  return kObstacleKindNames;
+}
+
+/// An obstacle placed by hand on or beside a layout track: a person, a car at a level crossing,
+/// a cow. It stands on the sleepers within 1.3 m of the track's centre, on the ground beyond.
+struct Obstacle {
+  ObstacleKind kind = ObstacleKind::kPerson;
+  int track = 0;                              ///< layout track id (railroad.json)
+  double chainage_m = 0.0;                    ///< main chainage
+  double offset_m = 0.0;                      ///< from the track's centre, + left
+  double heading_rad = std::numbers::pi / 2;  ///< facing, counter-clockwise from the track
+};
+
 struct ObjectParams {
   std::vector<ObjectKindParams> kinds;  ///< one per objectKinds() entry
   double cell_m = 8.0;                  ///< candidate lattice spacing
+  std::vector<Obstacle> obstacles;
   ObjectParams();
 };
+
+/// Why an obstacle cannot stand where it is put: on a track the layout does not have, or at a
+/// main chainage its track does not cover; nothing if it can. Such an obstacle is left out of
+/// the scene (the plan warns): a layout is drawn per seed, and a list of obstacles should serve
+/// every seed's (and a shortened route's) as far as it can.
+std::optional<std::string> obstacleOffTheLayout(const track::Layout& layout, const Obstacle& o);
 
 struct EnvironmentParams {
   terrain::TerrainParams terrain;
@@ -160,6 +189,10 @@ class Environment {
   /// wire, a signal. Nothing for anything else, platforms, tunnels, bridges and fences included:
   /// they stand by the line as a whole (their ids carry track 0 whichever track is nearest).
   std::optional<int> trackOf(scene::InstanceId instance) const;
+  /// The shared mesh of an obstacle kind.
+  const std::shared_ptr<const scene::Mesh>& obstaclePrototype(ObstacleKind kind) const {
+    return obstacles_.at(static_cast<std::size_t>(kind));
+  }
   /// The shared prototype of an object kind's variant.
   const std::shared_ptr<const scene::Mesh>& prototype(std::size_t kind, int variant) const;
 
@@ -170,8 +203,9 @@ class Environment {
   terrain::Terrain terrain_;
   scene::MaterialId ballast_material_, ground_material_;
   std::vector<std::vector<std::shared_ptr<const scene::Mesh>>> prototypes_;
-  std::array<std::shared_ptr<const scene::Mesh>, 3> signals_;  // by SignalAspect
-  std::vector<std::vector<CatenarySupport>> supports_;         // by layout track
+  std::array<std::shared_ptr<const scene::Mesh>, 3> signals_;    // by SignalAspect
+  std::array<std::shared_ptr<const scene::Mesh>, 3> obstacles_;  // by ObstacleKind
+  std::vector<std::vector<CatenarySupport>> supports_;           // by layout track
   std::optional<GeodeticAnchor> anchor_;  // the Earth the track was laid on, if it was
 };
 

@@ -67,7 +67,8 @@ namespace cls {
 inline constexpr ClassId kUnlabelled = 0, kRail = 1, kSleeper = 2, kTrackbed = 3, kTerrain = 4,
                          kVegetation = 5, kTree = 6, kTrunk = 7, kRock = 8, kBuilding = 9,
                          kPole = 10, kWire = 11, kFence = 12, kPlatform = 13, kTunnel = 14,
-                         kBridge = 15, kSignal = 16, kSky = 17;
+                         kBridge = 15, kSignal = 16, kSky = 17, kPerson = 18, kCar = 19,
+                         kAnimal = 20;
 }  // namespace cls
 
 /// The material ids the generators use, checked by `SemanticTable.NamedIdsMatchTheTable`.
@@ -78,7 +79,9 @@ inline constexpr MaterialId kNone = 0, kRailHead = 1, kRailWeb = 2, kConcrete = 
                             kBrick = 13, kPlaster = 14, kRoofTile = 15, kGalvanisedSteel = 16,
                             kCopper = 17, kAsphalt = 18, kPaintedMetal = 19, kRetroreflector = 20,
                             kSignalLensRed = 21, kSignalLensYellow = 22, kSignalLensGreen = 23,
-                            kSignalLampRed = 24, kSignalLampYellow = 25, kSignalLampGreen = 26;
+                            kSignalLampRed = 24, kSignalLampYellow = 25, kSignalLampGreen = 26,
+                            kClothing = 27, kSkin = 28, kCarPaint = 29, kGlass = 30, kRubber = 31,
+                            kHide = 32;
 }  // namespace mat
 
 /// What made an object, the top byte of its instance id.
