@@ -23,7 +23,6 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
-#include <vtkShaderProgram.h>
 #include <vtkSmartPointer.h>
 #include <vtkTextureObject.h>
 #include <vtkUnsignedCharArray.h>
@@ -31,6 +30,7 @@
 #include "frustum.hpp"
 #include "level_of_detail.hpp"
 #include "render_thread.hpp"
+#include "shade_shader.hpp"
 #include "trainsim/core/error.hpp"
 #include "vtk_meshes.hpp"
 
@@ -103,63 +103,6 @@ scene::Box3d wireBounds(const scene::Tile& tile, const scene::Wire& wire) {
   return b;
 }
 
-// Each surface lit by the daylight that reaches it, in one colour pass. Light is linear in the
-// share s of daylight a surface gets, so its colour s × (its colour by day) + (1 − s) × (its
-// colour in the shade) is that of one lighting: the ambient s·a_day + (1 − s)·a_shade, the
-// day's lights weighted by s·(1 − a_day) and the shade's by (1 − s)·(1 − a_shade) (a lighting's
-// diffuse share is 1 − its ambient). VTK writes the lighting's shader; these replacements
-// weight its terms per fragment, by the share of the pixel's surface read from a texture
-// (worked out from the id pass's depth). GLSL's preprocessor, as C's, leaves a macro's name
-// unexpanded within its own expansion, so `#define lightColor0 (lightColor0 * w)` weights the
-// uniform wherever the lighting code reads it; the defines follow the uniforms' declarations.
-// The most lights a colour pass has (the shader's replacements weight this many).
-constexpr int kMostLights = 16;
-
-struct ShadeInputs {
-  int unit = 0;                  // the shares' texture unit
-  int shaded = 0;                // 0: daylight everywhere (the texture is not read)
-  std::array<float, 4> light{};  // ambient by day, in the shade; diffuse by day, in the shade
-};
-
-// Lights 0 … day_lights − 1 are the day's, the rest the shade's; `lit` false: a surface drawn
-// without lights (a wire), its colour scaled by the ambient alone.
-std::string shadeDeclarations(bool lit, int day_lights) {
-  std::string s =
-      "//VTK::TMap::Dec\n"
-      "uniform sampler2D trainsimShares;\n"
-      "uniform int trainsimShaded;\n"
-      "uniform vec4 trainsimLight;\n"
-      "float trainsimDay = 1.0;\n"
-      "#define ambientIntensity mix(trainsimLight.y, trainsimLight.x, trainsimDay)\n";
-  s += lit ? "#define diffuseIntensity 1.0\n" : "#define diffuseIntensity 0.0\n";
-  for (int i = 0; lit && i < kMostLights; ++i)
-    s += "#define lightColor" + std::to_string(i) + " (lightColor" + std::to_string(i) +
-         (i < day_lights ? " * (trainsimDay * trainsimLight.z))\n"
-                         : " * ((1.0 - trainsimDay) * trainsimLight.w))\n");
-  return s;
-}
-
-void setShaderProperty(vtkOpenGLShaderProperty* p, bool lit, int day_lights) {
-  p->ClearAllFragmentShaderReplacements();
-  p->AddFragmentShaderReplacement("//VTK::TMap::Dec", true, shadeDeclarations(lit, day_lights),
-                                  false);
-  p->AddFragmentShaderReplacement(
-      "//VTK::UniformFlow::Impl", true,
-      "//VTK::UniformFlow::Impl\n"
-      "  if (trainsimShaded == 1)\n"
-      "    trainsimDay = texelFetch(trainsimShares, ivec2(gl_FragCoord.xy), 0).r;\n",
-      false);
-}
-
-// Sets a colour mapper's uniforms whenever it readies its shader (`client`: the ShadeInputs).
-void setShadeUniforms(vtkObject*, unsigned long, void* client, void* program) {
-  const auto& in = *static_cast<const ShadeInputs*>(client);
-  auto* p = static_cast<vtkShaderProgram*>(program);
-  p->SetUniformi("trainsimShares", in.unit);
-  p->SetUniformi("trainsimShaded", in.shaded);
-  p->SetUniform4f("trainsimLight", in.light.data());
-}
-
 }  // namespace
 
 // The VTK side: made, used and destroyed on the render thread only.
@@ -176,7 +119,7 @@ struct Renderer::Impl {
     // wires (see actor() and render()).
     vtkNew<vtkProperty> lit, unlit, glow, wire;
     // The colour pass's shader replacements and their inputs, for surfaces and wires (see
-    // shadeDeclarations()), and each pixel's share of daylight.
+    // shade_shader.hpp), and each pixel's share of daylight.
     vtkNew<vtkOpenGLShaderProperty> lit_shader, wire_shader;
     ShadeInputs lit_inputs, wire_inputs;
     vtkNew<vtkCallbackCommand> lit_uniforms, wire_uniforms;
@@ -225,7 +168,7 @@ struct Renderer::Impl {
     gl->wire->LightingOff();   // shaded by one factor per render (light())
     gl->wire->SetAmbient(1.0);
     gl->wire->SetDiffuse(0.0);
-    setShaderProperty(gl->wire_shader, false, 0);
+    setShadeShader(gl->wire_shader, false, 0);
     gl->lit_uniforms->SetCallback(setShadeUniforms);
     gl->lit_uniforms->SetClientData(&gl->lit_inputs);
     gl->wire_uniforms->SetCallback(setShadeUniforms);
@@ -406,7 +349,7 @@ struct Renderer::Impl {
   // day's sun and lamps, then, with `shade`, the shade's (its sun only if it shines). The sun
   // stays on at night, at intensity 0: with no light on at all, VTK would draw every surface
   // unlit, at its full colour. The renderer holds exactly these, in this order (which of them
-  // is which, the lit shader's replacements are written for: setShaderProperty()).
+  // is which, the lit shader's replacements are written for: setShadeShader()).
   void setLights(const Lighting& day, const Lighting* shade, const Eigen::Matrix3d& R_world_cam) {
     std::size_t n = 0;
     const auto next = [&]() -> vtkLight* {
@@ -455,7 +398,7 @@ struct Renderer::Impl {
       gl->lights_on = n;
     }
     if (day_lights != gl->day_lights) {
-      setShaderProperty(gl->lit_shader, true, day_lights);
+      setShadeShader(gl->lit_shader, true, day_lights);
       gl->day_lights = day_lights;
     }
   }
