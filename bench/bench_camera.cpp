@@ -239,7 +239,7 @@ void pngTable(const World& w) {
              all.base_ms / frames, all.ms / all.base_ms, all.bytes / all.base_bytes);
 }
 
-void tunnelRows(const World& def, const track::Block& tunnel,
+void tunnelRows(const World& def, double from, double to,
                 const std::shared_ptr<const terrain::TunnelDaylight>& daylight, Detail detail);
 
 // Frames before and into the default route's first tunnel, each surface lit by the daylight
@@ -257,19 +257,20 @@ void tunnelTable(const World& def) {
   const auto daylight = std::make_shared<const terrain::TunnelDaylight>(
       route, def.stage->railway->layout(), def.stage->environment->params().terrain);
   const double from = std::max(20.0, tunnel->chainage_begin_m - 150.0);
+  const double to = tunnel->chainage_begin_m + 100.0;
   fmt::print(
       "\nTunnel portal (main chainage {:.0f}-{:.0f} m, the first tunnel's portal at {:.0f} m, "
       "every 25 m; 1242 x 375, culled, levels of detail; the differences against the blend of "
       "a render under each lighting alone, by each pixel's share):\n\n| lighting | frames | ms "
       "a frame | x daylight everywhere | RGB mean diff | RGB pixels changed % |\n"
       "|---|---|---|---|---|---|\n",
-      from, tunnel->chainage_begin_m + 100.0, tunnel->chainage_begin_m);
+      from, to, tunnel->chainage_begin_m);
   for (const Detail detail : {Detail::kLodFxaa, Detail::kLod})
-    tunnelRows(def, *tunnel, daylight, detail);
+    tunnelRows(def, from, to, daylight, detail);
 }
 
-// tunnelTable()'s two rows at one level of detail.
-void tunnelRows(const World& def, const track::Block& tunnel,
+// tunnelTable()'s two rows at one level of detail, frames every 25 m from `from` to `to`.
+void tunnelRows(const World& def, double from, double to,
                 const std::shared_ptr<const terrain::TunnelDaylight>& daylight, Detail detail) {
   camera::RendererOptions o = options(1242, 375, detail);
   const camera::Renderer day(o);
@@ -310,8 +311,6 @@ void tunnelRows(const World& def, const track::Block& tunnel,
     return a;
   };
   auto stream = def.stage->environment->stream(16);
-  const double from = std::max(20.0, tunnel.chainage_begin_m - 150.0);
-  const double to = tunnel.chainage_begin_m + 100.0;
   const Stretch a = walk(def, *stream, day, from, to, 25.0);
   const Stretch c = walk(def, *stream, shaded, from, to, 25.0, blend, &shade);
   const char* name = detail == Detail::kLodFxaa ? ", FXAA (the run's)" : ", no FXAA";

@@ -12,7 +12,6 @@
 #include <vtkCommand.h>
 #include <vtkFloatArray.h>
 #include <vtkLight.h>
-#include <vtkLightCollection.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkOpenGLRenderWindow.h>
