@@ -458,14 +458,16 @@ TEST(LidarDataset, LimitsThatLeaveNoRangeOrOverlapFiringsAreProblemsNamingTheFie
   // An Ouster fires its columns as fast as its mode asks, up to 20 480 a second: 2048 columns at
   // 10 Hz and 1024 at 20 Hz are its modes (a 97.7 us firing sequence would allow half), 4096 at
   // 10 Hz is more than it fires.
-  for (const auto& [columns, hz] : {std::pair{2048, 10.0}, std::pair{1024, 20.0}})
-    EXPECT_TRUE(
-        problemsOf({{"model", "os1_64"}, {"columns", columns}, {"rotation_hz", hz}}).empty())
-        << columns;
-  const auto os1 = problemsOf({{"model", "os1_64"}, {"columns", 4096}});
-  ASSERT_EQ(os1.size(), 1u);
-  EXPECT_EQ(os1[0].path, "sensors.lidars[0].columns");
-  EXPECT_NE(os1[0].message.find("at most 2048"), std::string::npos) << os1[0].message;
+  for (const char* model : {"os1_64", "os1_128"}) {
+    SCOPED_TRACE(model);
+    for (const auto& [columns, hz] : {std::pair{2048, 10.0}, std::pair{1024, 20.0}})
+      EXPECT_TRUE(problemsOf({{"model", model}, {"columns", columns}, {"rotation_hz", hz}}).empty())
+          << columns;
+    const auto os1 = problemsOf({{"model", model}, {"columns", 4096}});
+    ASSERT_EQ(os1.size(), 1u);
+    EXPECT_EQ(os1[0].path, "sensors.lidars[0].columns");
+    EXPECT_NE(os1[0].message.find("at most 2048"), std::string::npos) << os1[0].message;
+  }
   for (const scenario::Json& fine :
        {scenario::Json{{"range_min_m", 0.5}}, scenario::Json{{"range_max_m", 1.0}},
         scenario::Json{{"columns", 1808}}, scenario::Json{{"range_sigma_m", -1}}})

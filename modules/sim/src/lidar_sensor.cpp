@@ -29,11 +29,12 @@ static_assert(std::endian::native == std::endian::little,
 namespace units = scenario::units;
 constexpr scenario::Unit kM = units::si("m");
 
-enum class LidarModel { kHdl64, kVlp16, kHdl32, kVlp32c, kOs1_64, kUniform };
+enum class LidarModel { kHdl64, kVlp16, kHdl32, kVlp32c, kOs1_64, kOs1_128, kUniform };
 constexpr EnumName<LidarModel> kLidarModelNames[] = {
-    {LidarModel::kHdl64, "hdl64"},   {LidarModel::kVlp16, "vlp16"},
-    {LidarModel::kHdl32, "hdl32"},   {LidarModel::kVlp32c, "vlp32c"},
-    {LidarModel::kOs1_64, "os1_64"}, {LidarModel::kUniform, "uniform"}};
+    {LidarModel::kHdl64, "hdl64"},    {LidarModel::kVlp16, "vlp16"},
+    {LidarModel::kHdl32, "hdl32"},    {LidarModel::kVlp32c, "vlp32c"},
+    {LidarModel::kOs1_64, "os1_64"},  {LidarModel::kOs1_128, "os1_128"},
+    {LidarModel::kUniform, "uniform"}};
 constexpr std::span<const EnumName<LidarModel>> enumNames(LidarModel) {
   return kLidarModelNames;
 }
@@ -103,6 +104,8 @@ std::string_view presetName(LidarModel m) {
       return "vlp32c";
     case LidarModel::kOs1_64:
       return "os1_64";
+    case LidarModel::kOs1_128:
+      return "os1_128";
     case LidarModel::kHdl64:
     case LidarModel::kUniform:
       break;
@@ -152,9 +155,9 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                           "Pose of the sensor's axes (x forward, y left, z up: KITTI's velodyne "
                           "frame); the default is the cab roof"}));
     b.choice("model", &C::model,
-             "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E, VLP-32C or Ouster OS1-64 from "
-             "their calibration tables (resources/lidars.json), or uniform (the fields under "
-             "uniform)");
+             "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E, VLP-32C, Ouster OS1-64 or "
+             "OS1-128 from their calibration tables (resources/lidars.json), or uniform (the "
+             "fields under uniform)");
     b.number("rotation_hz", &C::rotation_hz, units::si("Hz"),
              "Spin rate; one revolution must fit in period_ns")
         .range(1, 40);
@@ -162,7 +165,7 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
               "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
               "HDL-64E and 1024 for the OS1-64 at 10 Hz), 2048 for uniform. At most as many as "
               "the device fires: a Velodyne's whole firing sequence a column (1808 for the "
-              "VLP-16 at 10 Hz), an OS1-64 20 480 columns a second (its 2048 x 10 Hz and "
+              "VLP-16 at 10 Hz), an OS1 20 480 columns a second (its 2048 x 10 Hz and "
               "1024 x 20 Hz modes)")
         .range(0, 65535);
     b.number("horizontal_fov_deg", &C::horizontal_fov_rad, units::kDegree,
@@ -180,7 +183,7 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
         .range(0, 2000);
     b.number("range_sigma_m", &C::range_sigma_m, kM,
              "Gaussian range noise, 1 sigma; -1: the device's datasheet value (VLP-16 and VLP-32C "
-             "0.03 m, HDL-32E and HDL-64E 0.02 m, OS1-64 0.015 m; 0.02 m for uniform)",
+             "0.03 m, HDL-32E and HDL-64E 0.02 m, OS1-64 and OS1-128 0.015 m; 0.02 m for uniform)",
              scenario::Sentinel{-1.0, -1.0})
         .range(-1, 1);
     b.number("range_sigma_per_m", &C::range_sigma_per_m, units::si("m/m"),

@@ -61,7 +61,8 @@ struct ScanPattern {
   void assignRings();
 };
 
-/// The preset names, in table order ("vlp16", "hdl32", "hdl64", "os1_64", "vlp32c").
+/// The preset names, in table order ("vlp16", "hdl32", "hdl64", "os1_64", "vlp32c",
+/// "os1_128").
 std::vector<std::string> presetNames();
 /// A preset's pattern; `columns` 0 takes the device's own count at `rotation_hz` (0: the
 /// preset's rate): as many whole firing sequences as a revolution holds. Throws ConfigError for
