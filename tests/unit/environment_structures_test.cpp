@@ -530,6 +530,13 @@ TEST(Obstacles, StandWhereTheScenarioPutsThemAsObjectsOfTheirOwn) {
                             : w.env().terrain().heightAt(over.x(), over.y()) - over.z();
     EXPECT_NEAR(low, foot, 0.01) << i;
     EXPECT_NEAR(high - low, heights[i], 0.01) << i;
+    // Its kind's footprint (which the train's stop short of it reads) is the mesh's plan bounds.
+    Eigen::AlignedBox2d plan;
+    for (const Eigen::Vector3f& v : o.mesh->vertices)
+      plan.extend(v.head<2>().cast<double>());
+    const Eigen::AlignedBox2d footprint = environment::obstacleFootprint(ob.kind);
+    EXPECT_LT((plan.min() - footprint.min()).cwiseAbs().maxCoeff(), 0.01) << i;
+    EXPECT_LT((plan.max() - footprint.max()).cwiseAbs().maxCoeff(), 0.01) << i;
     // Facing: the object's x is the track's direction turned by heading_deg about the vertical.
     const Eigen::Vector3d forward = o.linear.col(0).cast<double>();
     const Eigen::Vector3d t = (f.tangent - f.tangent.dot(up) * up).normalized();

@@ -37,17 +37,23 @@ TEST(Planner, RebuildsOnlyTheStagesWhoseSectionsChanged) {
   planner.plan(resolve(input));
   EXPECT_EQ(builds(planner), (Builds{1, 1, 2}));
 
+  // An obstacle in the train's way ends its run short of it (train.stop_for_obstacles).
+  input["objects"] = {{"obstacles", {{{"kind", "person"}, {"chainage_m", 2000.0}}}}};
+  const Plan obstacle_edit = planner.plan(resolve(input));
+  EXPECT_EQ(builds(planner), (Builds{1, 1, 3}));
+  EXPECT_LT(obstacle_edit.motion().duration(), train_edit.motion().duration());
+
   input["layout"] = {{"track_centre_distance_m", 4.5}};
   planner.plan(resolve(input));
-  EXPECT_EQ(builds(planner), (Builds{1, 2, 2}));
+  EXPECT_EQ(builds(planner), (Builds{1, 2, 3}));
 
   input["design"] = {{"max_cant_mm", 150}};
   planner.plan(resolve(input));
-  EXPECT_EQ(builds(planner), (Builds{2, 3, 3}));
+  EXPECT_EQ(builds(planner), (Builds{2, 3, 4}));
 
   input["seed"] = 9;  // the seed draws the route and the layout
   planner.plan(resolve(input));
-  EXPECT_EQ(builds(planner), (Builds{3, 4, 4}));
+  EXPECT_EQ(builds(planner), (Builds{3, 4, 5}));
 }
 
 TEST(Planner, ReusedStagesGiveTheSamePlanAsAFreshOne) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <sstream>
 
+#include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
 #include "trainsim/core/geodesy.hpp"
 
@@ -242,6 +243,77 @@ TEST(Standstill, AStaticOnlyRunNeverMovesAndNeedsADuration) {
         << e.problems()[0].text();
     EXPECT_NE(e.problems()[0].text().find("static_only"), std::string::npos);
   }
+}
+
+TEST(ObstacleStop, TheTrainStopsItsMarginShortOfTheFirstObstacleInItsWay) {
+  // On a 2 km route: a cow beside the main track (its footprint 2.2 m from the centre, beyond
+  // the body's 1.45 m), a car along it with its side 1.1 m from the centre (in the way: its
+  // rear, 2.2 m behind its chainage, is what the train meets) and a person on the track further
+  // on. The train's front (the body's front edge, 1.25 m ahead of the front pivot) stops
+  // obstacle_margin_m short of the car's rear and stands there: the run never goes beyond.
+  scenario::Json input = {{"route", {{"generator", {{"length_m", 2000}}}}}};
+  input["objects"]["obstacles"] = scenario::Json::array(
+      {{{"kind", "cow"}, {"chainage_m", 900.0}, {"offset_m", 3.0}, {"heading_deg", 90.0}},
+       {{"kind", "car"}, {"chainage_m", 1500.0}, {"offset_m", -2.0}, {"heading_deg", 0.0}},
+       {{"kind", "person"}, {"chainage_m", 1700.0}, {"offset_m", 0.0}}});
+  const auto end = [](const Plan& p) {
+    return p.trajectory().sample(p.trajectory().sampleCount() - 1);
+  };
+  const auto check = [&](double margin) {
+    SCOPED_TRACE(margin);
+    scenario::Json in = input;
+    in["train"]["obstacle_margin_m"] = margin;
+    const std::unique_ptr<Plan> plan = planFor(in);
+    const double car_rear = plan->route().route.track.vertical().at(1500.0).distance_m - 2.2;
+    const TrajectorySample last = end(*plan);
+    EXPECT_NEAR(last.distance_m, car_rear - margin - 1.25, 1e-6);
+    EXPECT_EQ(last.speed_m_s, 0.0);
+    double furthest = 0.0;
+    for (std::int64_t k = 0; k < plan->trajectory().sampleCount(); k += 10)
+      furthest = std::max(furthest, plan->trajectory().sample(k).distance_m);
+    EXPECT_LE(furthest, last.distance_m + 1e-9);
+    return last.t_ns;
+  };
+  const TimeNs at_20 = check(20.0);
+  EXPECT_GT(at_20, check(60.0));  // stopping 40 m earlier: a shorter run
+  // Running through them (or with none in the way) the train drives to the route's end.
+  scenario::Json through = input;
+  through["train"]["stop_for_obstacles"] = false;
+  scenario::Json none = input;
+  none["objects"]["obstacles"].erase(1);
+  none["objects"]["obstacles"].erase(1);
+  const std::unique_ptr<Plan> a = planFor(through), b = planFor(none);
+  EXPECT_GT(end(*a).distance_m, 1990.0);
+  EXPECT_EQ(end(*a).distance_m, end(*b).distance_m);
+  EXPECT_EQ(a->trajectory().sampleCount(), b->trajectory().sampleCount());
+  // Turned across the track the car is in the way from 0.9 m further on (its half width).
+  input["objects"]["obstacles"][1]["heading_deg"] = 90.0;
+  input["objects"]["obstacles"][1]["offset_m"] = 0.0;
+  const std::unique_ptr<Plan> across = planFor(input);
+  EXPECT_NEAR(end(*across).distance_m,
+              across->route().route.track.vertical().at(1500.0).distance_m - 0.9 - 21.25, 1e-6);
+}
+
+TEST(ObstacleStop, AnObstacleTooNearTheStartIsAProblemNamingIt) {
+  // The train's front starts at 20 m (the rear wheelset at 0): a cow at 12 m is behind it, not
+  // in its way ahead; a person 10 m ahead of the front is nearer than the 20 m margin.
+  scenario::Json input = {{"route", {{"generator", {{"length_m", 1500}}}}}};
+  input["objects"]["obstacles"] =
+      scenario::Json::array({{{"kind", "cow"}, {"chainage_m", 12.0}, {"offset_m", 0.5}},
+                             {{"kind", "person"}, {"chainage_m", 30.0}, {"offset_m", -0.8}}});
+  try {
+    planFor(input);
+    ADD_FAILURE() << "planned";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("objects.obstacles[1]: a person in the train's way", 0),
+              0u)
+        << e.what();
+  }
+  input["train"]["obstacle_margin_m"] = 5.0;
+  EXPECT_NO_THROW(planFor(input));
+  input["train"]["obstacle_margin_m"] = 20.0;
+  input["train"]["stop_for_obstacles"] = false;
+  EXPECT_NO_THROW(planFor(input));
 }
 
 }  // namespace

@@ -28,6 +28,20 @@ std::optional<std::string> obstacleOffTheLayout(const track::Layout& layout, con
   return std::nullopt;
 }
 
+Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind) {
+  // The meshes' bounds in plan (Environment's constructor builds them; a test holds the two
+  // together): the person's arms, the car's body and the cow's head reach furthest.
+  switch (kind) {
+    case ObstacleKind::kPerson:
+      return {Eigen::Vector2d(-0.12, -0.315), Eigen::Vector2d(0.12, 0.315)};
+    case ObstacleKind::kCar:
+      return {Eigen::Vector2d(-2.2, -0.9), Eigen::Vector2d(2.2, 0.9)};
+    case ObstacleKind::kCow:
+      break;
+  }
+  return {Eigen::Vector2d(-0.8, -0.3), Eigen::Vector2d(1.2, 0.3)};
+}
+
 Environment::Environment(std::shared_ptr<const terrain::Railway> railway, EnvironmentParams params,
                          std::uint64_t seed)
     : railway_(railway),

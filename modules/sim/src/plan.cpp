@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "obstacle_stop.hpp"
 #include "trainsim/core/cancel.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/geodesy.hpp"
@@ -121,7 +122,7 @@ const std::vector<PipelineStage>& stageTable() {
         {"layout", "double and auxiliary tracks", {seed, layoutSection().key}, true},
         {"motion",
          "speed profile and trajectory",
-         {trainSection().key, trajectorySection().key},
+         {trainSection().key, trajectorySection().key, objectsSection().key},
          true},
         {"terrain",
          "terrain, objects and track assets",
@@ -216,9 +217,23 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
                           &TrainConfig::vehicle, &track::VehicleGeometry::bogie_spacing_m)) +
                       ": the route is too short for the train");
   const TrajectoryConfig clock = trajectorySection().read(sc.json());
+  // The run ends short of the first obstacle in the train's way.
+  double u_stop = u_end;
+  if (train.stop_for_obstacles && !clock.static_only) {
+    const auto obstacles = objectsSection().read(sc.json()).obstacles;
+    if (const auto stop = detail::obstacleStop(r, obstacles, train, u_start);
+        stop && stop->u_m < u_end) {
+      u_stop = stop->u_m;
+      const environment::Obstacle& o = obstacles[stop->index];
+      logInfo(fmt::format(
+          "plan: the train stops {:g} m short of objects.obstacles[{}], a {} in its way at "
+          "main chainage {:g} m; the run ends there (train.stop_for_obstacles)",
+          train.obstacle_margin_m, stop->index, nameOf(o.kind), o.chainage_m));
+    }
+  }
   throwIfCancelled();
   const track::MotionProfile run =
-      track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_end);
+      track::planMotion(r, route->route.stops, limits, train.dynamics, u_start, u_stop);
   track::MotionProfile motion =
       clock.static_only
           ? track::MotionProfile::standstill(

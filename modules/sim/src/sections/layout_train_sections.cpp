@@ -147,6 +147,15 @@ const scenario::Section<TrainConfig>& trainSection() {
     b.object("body", &TrainConfig::body, bodyBinding(),
              "The lead vehicle's body as a box in body axes (origin midway between the bogie "
              "pivots at top of rail): what it hides from the LiDARs and cameras on it.");
+    b.boolean("stop_for_obstacles", &TrainConfig::stop_for_obstacles,
+              "An obstacle in the train's way (objects.obstacles on track 0 whose footprint "
+              "reaches within half the body's width of the track's centre) ends the run: the "
+              "train brakes to a stop obstacle_margin_m short of the first one, and the route "
+              "beyond it is not driven (trajectory.standstill_end_s records it standing there); "
+              "false: the train runs through obstacles");
+    b.number("obstacle_margin_m", &TrainConfig::obstacle_margin_m, kM,
+             "How far short of an obstacle in its way the train's front stops")
+        .range(0, 10000);
     b.check([](const TrainConfig& c, const scenario::FieldPaths<TrainConfig>& at,
                std::vector<Problem>& out) {
       if (c.vehicle.bogie_spacing_m > c.limits.train_length_m)

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/geodesy.hpp"
@@ -105,6 +106,10 @@ struct ObjectParams {
   std::vector<Obstacle> obstacles;
   ObjectParams();
 };
+
+/// An obstacle kind's footprint: the plan view of its mesh's bounds in its own axes (x the way
+/// it faces, y to its left), m.
+Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind);
 
 /// Why an obstacle cannot stand where it is put: on a track the layout does not have, or at a
 /// main chainage its track does not cover; nothing if it can. Such an obstacle is left out of

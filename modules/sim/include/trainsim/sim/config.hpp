@@ -6,6 +6,7 @@
 // one table. Code reads a section with e.g. routeSection().read(scenario.json()) and names a
 // field's JSON path with routeSection().path(&RouteConfig::source) — never by a string.
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,15 @@ struct TrainConfig {
   Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();
   track::TrainDynamics dynamics;
   BodyConfig body;
+  /// Brake to a stop obstacle_margin_m short of the first obstacle in the train's way (and end
+  /// the run there) rather than run through it.
+  bool stop_for_obstacles = true;
+  double obstacle_margin_m = 20.0;
+  /// The front of the train forward of the body origin: the body's front edge, or the front
+  /// wheelset where that lies further forward.
+  double frontX() const {
+    return std::max(body.front_x_m, 0.5 * vehicle.bogie_spacing_m + 0.5 * vehicle.wheelbase_m);
+  }
 };
 
 /// `trajectory`: the movement system's clock.

@@ -1,0 +1,30 @@
+#pragma once
+// Private to the simulation module: where the train stops short of an obstacle in its way
+// (train.stop_for_obstacles), read by the motion stage of the plan.
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "trainsim/environment/environment.hpp"
+#include "trainsim/sim/config.hpp"
+#include "trainsim/track/route.hpp"
+
+namespace trainsim::sim::detail {
+
+/// The first obstacle in the train's way and where the train stops short of it.
+struct ObstacleStop {
+  std::size_t index = 0;  ///< in objects.obstacles
+  double u_m = 0.0;       ///< the front pivot's distance along the main track at the stop
+  double near_u_m = 0.0;  ///< the obstacle's near face, the same way
+};
+
+/// The stop obstacle_margin_m short of the nearest obstacle in the train's way ahead of its
+/// front at the start (the front pivot at distance `u_start`): one on the main track (track 0),
+/// whose footprint, turned by its heading, reaches within half the body's width of the track's
+/// centre. Throws ConfigError naming the obstacle when it stands too near the start for the
+/// train to stop short of it.
+std::optional<ObstacleStop> obstacleStop(const track::Route& route,
+                                         const std::vector<environment::Obstacle>& obstacles,
+                                         const TrainConfig& train, double u_start);
+
+}  // namespace trainsim::sim::detail
