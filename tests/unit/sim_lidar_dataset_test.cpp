@@ -455,18 +455,41 @@ TEST(LidarDataset, LimitsThatLeaveNoRangeOrOverlapFiringsAreProblemsNamingTheFie
     EXPECT_EQ(problems[0].path, std::string("sensors.lidars[0].") + field) << lidar.dump();
   }
   EXPECT_NE(problemsOf({{"columns", 4000}})[0].message.find("1808"), std::string::npos);
-  // An Ouster fires its columns as fast as its mode asks, up to 20 480 a second: 2048 columns at
-  // 10 Hz and 1024 at 20 Hz are its modes (a 97.7 us firing sequence would allow half), 4096 at
-  // 10 Hz is more than it fires.
+  // An Ouster runs its modes: 2048 columns at 10 Hz and 1024 at 20 Hz among them (a 97.7 us
+  // firing sequence would allow half); 4096 at 10 Hz, 777 at 10 Hz, or any columns at 13 Hz are
+  // none of them. A Velodyne spins at 5 ... 20 Hz.
   for (const char* model : {"os1_64", "os1_128"}) {
     SCOPED_TRACE(model);
     for (const auto& [columns, hz] : {std::pair{2048, 10.0}, std::pair{1024, 20.0}})
       EXPECT_TRUE(problemsOf({{"model", model}, {"columns", columns}, {"rotation_hz", hz}}).empty())
           << columns;
-    const auto os1 = problemsOf({{"model", model}, {"columns", 4096}});
-    ASSERT_EQ(os1.size(), 1u);
-    EXPECT_EQ(os1[0].path, "sensors.lidars[0].columns");
-    EXPECT_NE(os1[0].message.find("at most 2048"), std::string::npos) << os1[0].message;
+    for (const int columns : {4096, 777}) {
+      const auto os1 = problemsOf({{"model", model}, {"columns", columns}});
+      ASSERT_EQ(os1.size(), 1u);
+      EXPECT_EQ(os1[0].path, "sensors.lidars[0].columns");
+      EXPECT_NE(os1[0].message.find("is not one of the " + std::string(model) +
+                                    "'s modes (512 x 10 Hz, 1024 x 10 Hz, 2048 x 10 Hz, 512 x "
+                                    "20 Hz, 1024 x 20 Hz)"),
+                std::string::npos)
+          << os1[0].message;
+    }
+    const auto rate = problemsOf({{"model", model}, {"rotation_hz", 13.0}});
+    ASSERT_EQ(rate.size(), 1u);
+    EXPECT_EQ(rate[0].path, "sensors.lidars[0].rotation_hz");
+  }
+  for (const char* model : {"vlp16", "hdl32", "hdl64", "vlp32c"}) {
+    SCOPED_TRACE(model);
+    for (const double hz : {5.0, 20.0})
+      EXPECT_TRUE(problemsOf({{"model", model}, {"rotation_hz", hz}, {"columns", 0}}).empty());
+    for (const double hz : {1.0, 4.9, 20.5}) {
+      const auto slow = problemsOf({{"model", model}, {"rotation_hz", hz}, {"columns", 0}});
+      ASSERT_EQ(slow.size(), 1u) << hz;
+      EXPECT_EQ(slow[0].path, "sensors.lidars[0].rotation_hz");
+      EXPECT_NE(slow[0].message.find("is outside the " + std::string(model) +
+                                     "'s 5 ... 20 Hz (300 ... 1200 rpm)"),
+                std::string::npos)
+          << slow[0].message;
+    }
   }
   for (const scenario::Json& fine :
        {scenario::Json{{"range_min_m", 0.5}}, scenario::Json{{"range_max_m", 1.0}},

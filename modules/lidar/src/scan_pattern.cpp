@@ -32,6 +32,12 @@ const std::vector<ScanPattern>& presets() {
       s.firing_period_s = p.at("firing_period_us").get<double>() * 1e-6;
       s.shortest_column_s =
           p.value("shortest_column_us", p.at("firing_period_us").get<double>()) * 1e-6;
+      if (p.contains("rotation_hz_range")) {
+        s.rotation_hz_min = p.at("rotation_hz_range").at(0).get<double>();
+        s.rotation_hz_max = p.at("rotation_hz_range").at(1).get<double>();
+      }
+      for (const auto& m : p.value("modes", nlohmann::json::array()))
+        s.modes.emplace_back(m.at(0).get<int>(), m.at(1).get<double>());
       for (const auto& l : p.at("lasers"))
         s.lasers.push_back(
             {l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>() * 1e-6, 0});

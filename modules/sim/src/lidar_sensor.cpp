@@ -1,10 +1,13 @@
 #include "lidar_sensor.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <numbers>
+#include <ranges>
 
 #include <Eigen/Geometry>
 
@@ -159,14 +162,15 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
              "OS1-128 from their calibration tables (resources/lidars.json), or uniform (the "
              "fields under uniform)");
     b.number("rotation_hz", &C::rotation_hz, units::si("Hz"),
-             "Spin rate; one revolution must fit in period_ns")
+             "Spin rate; one revolution must fit in period_ns. A Velodyne spins at 5 ... 20 Hz, "
+             "an Ouster at 10 or 20 Hz (its modes)")
         .range(1, 40);
     b.integer("columns", &C::columns, "",
               "Firings per revolution; 0: the device's own at this spin rate (2083 for the "
-              "HDL-64E and 1024 for the OS1-64 at 10 Hz), 2048 for uniform. At most as many as "
-              "the device fires: a Velodyne's whole firing sequence a column (1808 for the "
-              "VLP-16 at 10 Hz), an OS1 20 480 columns a second (its 2048 x 10 Hz and "
-              "1024 x 20 Hz modes)")
+              "HDL-64E and 1024 for an OS1 at 10 Hz, 512 at 20 Hz), 2048 for uniform. At most as "
+              "many as the device fires: a Velodyne's whole firing sequence a column (1808 for "
+              "the VLP-16 at 10 Hz); an OS1 one of its modes (512, 1024 or 2048 columns at "
+              "10 Hz, 512 or 1024 at 20 Hz)")
         .range(0, 65535);
     b.number("horizontal_fov_deg", &C::horizontal_fov_rad, units::kDegree,
              "Azimuth window centred forward: the head spins the whole revolution and fires only "
@@ -260,8 +264,35 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                        fmt::format("leaves no range: shortest {} m, longest {} m (0 takes the "
                                    "device's own: {} ... {} m)",
                                    near, far, device.range_min_m, device.range_max_m)});
+      // The spin rates the device runs at, and an Ouster's (columns, rate) modes.
+      if (device.rotation_hz_max > 0.0 &&
+          !(c.rotation_hz >= device.rotation_hz_min && c.rotation_hz <= device.rotation_hz_max))
+        out.push_back(
+            {at(c.rotation_hz),
+             fmt::format("{:g} Hz is outside the {}'s {:g} ... {:g} Hz ({:g} ... {:g} "
+                         "rpm)",
+                         c.rotation_hz, device.name, device.rotation_hz_min, device.rotation_hz_max,
+                         60.0 * device.rotation_hz_min, 60.0 * device.rotation_hz_max)});
+      const std::string modes =
+          fmt::format("{}", fmt::join(device.modes | std::views::transform([](const auto& m) {
+                                        return fmt::format("{} x {:g} Hz", m.first, m.second);
+                                      }),
+                                      ", "));
+      const auto runs = [&](int columns) {
+        return std::ranges::any_of(device.modes, [&](const auto& m) {
+          return m.second == c.rotation_hz && (columns == 0 || m.first == columns);
+        });
+      };
+      if (!device.modes.empty() && !runs(0))
+        out.push_back({at(c.rotation_hz), fmt::format("{:g} Hz is not a rate the {} spins at (its "
+                                                      "modes: {})",
+                                                      c.rotation_hz, device.name, modes)});
+      else if (!device.modes.empty() && !runs(c.columns))
+        out.push_back(
+            {at(c.columns), fmt::format("{} columns at {:g} Hz is not one of the {}'s modes ({})",
+                                        c.columns, c.rotation_hz, device.name, modes)});
       // A column can be no shorter than the device fires one (a Velodyne's firing sequence).
-      if (c.columns > 0 && device.shortest_column_s > 0.0 &&
+      if (device.modes.empty() && c.columns > 0 && device.shortest_column_s > 0.0 &&
           1.0 / (c.columns * c.rotation_hz) < device.shortest_column_s * (1.0 - 1e-9))
         out.push_back(
             {at(c.columns),

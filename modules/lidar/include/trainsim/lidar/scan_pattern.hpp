@@ -4,6 +4,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace trainsim::lidar {
@@ -41,6 +42,10 @@ struct ScanPattern {
   /// The shortest column the device can fire (a Velodyne's firing sequence; an Ouster's fastest
   /// mode, 2048 columns at 10 Hz); 0 for uniform (no limit).
   double shortest_column_s = 0.0;
+  /// The spin rates the device runs at: a Velodyne's range (0 ... 0: any), or an Ouster's modes,
+  /// the (columns, Hz) pairs its firmware offers (empty: any columns the firing allows).
+  double rotation_hz_min = 0.0, rotation_hz_max = 0.0;
+  std::vector<std::pair<int, double>> modes;
 
   int revolutionColumns() const { return revolution_columns > 0 ? revolution_columns : columns; }
   /// Whether the scan fires the whole revolution (no azimuth window).
