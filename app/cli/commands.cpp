@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <charconv>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -66,7 +68,7 @@ struct EvaluateArgs {
 
 struct GenerateArgs : CommonOptions {
   std::string out = "output";
-  std::optional<std::uint64_t> seed;
+  std::optional<std::string> seed;  // parsed by seedOption(): CLI11 wraps "-1" to 2^64 - 1
   int threads = 0;
   bool resume = false;
   bool force = false;
@@ -85,13 +87,33 @@ std::string describeSource(const std::string& path) {
   return path.empty() ? "built-in default scenario" : path == "-" ? "standard input" : path;
 }
 
+// --seed as typed: a whole number within the scenario's seed range, refused naming the option
+// (as the scenario would refuse it, but said of the command line, not of the file).
+std::optional<std::uint64_t> seedOption(const std::optional<std::string>& text) {
+  if (!text)
+    return std::nullopt;
+  const std::string& s = *text;
+  const std::size_t sign = !s.empty() && s[0] == '-' ? 1 : 0;
+  if (s.size() == sign || !std::all_of(s.begin() + static_cast<std::ptrdiff_t>(sign), s.end(),
+                                       [](char c) { return c >= '0' && c <= '9'; }))
+    throw ConfigError(fmt::format("--seed: '{}' is not a whole number", s));
+  const double max = scenario::seedParam().maximum.value();
+  std::uint64_t seed = 0;
+  const auto [at, ec] = std::from_chars(s.data() + sign, s.data() + s.size(), seed);
+  if (sign == 1 && (seed != 0 || ec != std::errc()))
+    throw ConfigError(fmt::format("--seed: {} is below the minimum 0", s));
+  if (ec != std::errc() || static_cast<double>(seed) > max)
+    throw ConfigError(fmt::format("--seed: {} is above the maximum {:.0f}", s, max));
+  return seed;
+}
+
 void runGenerate(const GenerateArgs& args) {
   catchInterrupts();
   applyLogLevel(args.log_level);
   if (args.threads < 0) {
     throw ConfigError(fmt::format("--threads: {} is below the minimum 0", args.threads));
   }
-  const scenario::Scenario scenario = sim::loadScenario(args.scenario, args.seed);
+  const scenario::Scenario scenario = sim::loadScenario(args.scenario, seedOption(args.seed));
   ProgressReporter progress(parseProgressMode(args.progress));
   sim::GenerateOptions options;
   options.out = args.out;
