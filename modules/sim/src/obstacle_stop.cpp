@@ -41,7 +41,7 @@ std::optional<ObstacleStop> obstacleStop(const track::Route& route,
           "it, lower the margin, or set train.stop_for_obstacles false to run through it",
           i, nameOf(o.kind), near_u - u_start - nose, train.obstacle_margin_m));
     if (!first || u < first->u_m)
-      first = ObstacleStop{i, u, near_u};
+      first = ObstacleStop{i, u};
   }
   return first;
 }

@@ -15,7 +15,6 @@ namespace trainsim::sim::detail {
 struct ObstacleStop {
   std::size_t index = 0;  ///< in objects.obstacles
   double u_m = 0.0;       ///< the front pivot's distance along the main track at the stop
-  double near_u_m = 0.0;  ///< the obstacle's near face, the same way
 };
 
 /// The stop obstacle_margin_m short of the nearest obstacle in the train's way ahead of its
