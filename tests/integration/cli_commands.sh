@@ -52,6 +52,9 @@ for f in pngs:
 rows = list(csv.DictReader(open(os.path.join(root, "objects.csv"))))
 assert len(rows) > 100 and {r["kind"] for r in rows} >= {"trees", "bushes"}, len(rows)
 assert len({r["instance"] for r in rows}) == len(rows)
+# The default scenario's three obstacles, with their classes, each once.
+assert sorted((r["kind"], r["class"]) for r in rows if r["kind"] in ("person", "car", "cow")) == \
+    [("car", "car"), ("cow", "animal"), ("person", "person")], [r for r in rows if r["kind"] in ("person", "car", "cow")]
 vtis = [f for f in os.listdir(os.path.join(root, "terrain")) if f.endswith(".vti")]
 assert vtis and all(open(os.path.join(root, "terrain", f), "rb").read(200).find(b"ImageData") > 0 for f in vtis), vtis
 vtm = open(os.path.join(root, "scene.vtm")).read()

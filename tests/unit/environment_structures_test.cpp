@@ -545,5 +545,61 @@ TEST(Obstacles, StandWhereTheScenarioPutsThemAsObjectsOfTheirOwn) {
   }
 }
 
+TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
+  // Persons beside the main track: on the ballast's top past the sleepers' ends, on its shoulder
+  // slope, between the double track's two beds, past the beds on the ground. Each foot is
+  // checked against the scene's own meshes (the highest ballast, sleeper or terrain triangle
+  // under it, interpolated), not against the placement's own section.
+  Json patch;
+  patch["objects"]["obstacles"] = Json::array({{{"chainage_m", 1300.0}, {"offset_m", 1.5}},
+                                               {{"chainage_m", 1350.0}, {"offset_m", 2.2}},
+                                               {{"chainage_m", 1400.0}, {"offset_m", -2.0}},
+                                               {{"chainage_m", 1450.0}, {"offset_m", 3.5}}});
+  const World w = makeWorld(patch);
+  const scene::TileGrid grid = w.env().grid();
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::optional<environment::PlacedObstacle> p = w.env().obstacle(i);
+    ASSERT_TRUE(p) << i;
+    const Eigen::Vector2d xy = p->foot.head<2>();
+    double surface = -1e300;
+    const scene::TileIndex at = grid.tileAt(xy.x(), xy.y());
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        if (!w.env().tiles().contains({at.i + di, at.j + dj}))
+          continue;
+        const std::shared_ptr<const scene::Tile> tile = w.env().tile({at.i + di, at.j + dj});
+        for (const scene::Object& o : tile->objects)
+          for (const scene::MeshPart& part : o.mesh->parts) {
+            if (part.cls != scene::cls::kTrackbed && part.cls != scene::cls::kSleeper &&
+                part.cls != scene::cls::kTerrain)
+              continue;
+            for (std::uint32_t t = part.first_triangle;
+                 t < part.first_triangle + part.triangle_count; ++t) {
+              const auto& tri = o.mesh->triangles[t];
+              const Eigen::Vector3d a = o.worldVertex(tri[0]), b = o.worldVertex(tri[1]),
+                                    c = o.worldVertex(tri[2]);
+              // Barycentric coordinates of xy in the triangle's plan.
+              const Eigen::Vector2d e1 = (b - a).head<2>(), e2 = (c - a).head<2>();
+              const double det = e1.x() * e2.y() - e1.y() * e2.x();
+              if (std::abs(det) < 1e-12)
+                continue;
+              const Eigen::Vector2d d = xy - a.head<2>();
+              const double u = (d.x() * e2.y() - d.y() * e2.x()) / det;
+              const double v = (e1.x() * d.y() - e1.y() * d.x()) / det;
+              if (u < -1e-9 || v < -1e-9 || u + v > 1.0 + 1e-9)
+                continue;
+              surface = std::max(surface, a.z() + u * (b - a).z() + v * (c - a).z());
+            }
+          }
+      }
+    // The ballast within 2 cm; the terrain within 5 cm (its mesh is simplified to 2 cm of the
+    // height grid, whose own triangles differ from the grid's bilinear heights by a little more).
+    EXPECT_NEAR(p->foot.z(), surface, i < 3 ? 0.02 : 0.05) << i;
+  }
+  // The first three stand on ballast, above the formation the terrain meets beside the bed.
+  const double rail = w.railway().frame(0, 1300.0).position.z();
+  EXPECT_NEAR(w.env().obstacle(0)->foot.z(), rail - 0.212, 0.01);
+}
+
 }  // namespace
 }  // namespace trainsim

@@ -294,26 +294,63 @@ TEST(ObstacleStop, TheTrainStopsItsMarginShortOfTheFirstObstacleInItsWay) {
               across->route().route.track.vertical().at(1500.0).distance_m - 0.9 - 21.25, 1e-6);
 }
 
-TEST(ObstacleStop, AnObstacleTooNearTheStartIsAProblemNamingIt) {
-  // The train's front starts at 20 m (the rear wheelset at 0): a cow at 12 m is behind it, not
-  // in its way ahead; a person 10 m ahead of the front is nearer than the 20 m margin.
-  scenario::Json input = {{"route", {{"generator", {{"length_m", 1500}}}}}};
-  input["objects"]["obstacles"] =
-      scenario::Json::array({{{"kind", "cow"}, {"chainage_m", 12.0}, {"offset_m", 0.5}},
-                             {{"kind", "person"}, {"chainage_m", 30.0}, {"offset_m", -0.8}}});
-  try {
-    planFor(input);
-    ADD_FAILURE() << "planned";
-  } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("objects.obstacles[1]: a person in the train's way", 0),
-              0u)
-        << e.what();
-  }
-  input["train"]["obstacle_margin_m"] = 5.0;
-  EXPECT_NO_THROW(planFor(input));
-  input["train"]["obstacle_margin_m"] = 20.0;
-  input["train"]["stop_for_obstacles"] = false;
-  EXPECT_NO_THROW(planFor(input));
+TEST(ObstacleStop, AnObstacleUnderTheTrainOrTooNearItsStartIsAProblemNamingIt) {
+  // The train's front starts at 20 m (the rear wheelset at 0): a cow at 12 m stands under it; a
+  // person 10 m ahead of the front is nearer than the 20 m margin.
+  const auto problem = [](const scenario::Json& obstacle, double margin) -> std::string {
+    scenario::Json input = {{"route", {{"generator", {{"length_m", 1500}}}}}};
+    input["objects"]["obstacles"] = scenario::Json::array({obstacle});
+    input["train"]["obstacle_margin_m"] = margin;
+    try {
+      planFor(input);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const scenario::Json cow = {{"kind", "cow"}, {"chainage_m", 12.0}, {"offset_m", 0.5}};
+  const scenario::Json person = {{"kind", "person"}, {"chainage_m", 30.0}, {"offset_m", -0.8}};
+  EXPECT_EQ(
+      problem(cow, 20.0).rfind("objects.obstacles[0]: a cow under the train where it starts", 0),
+      0u)
+      << problem(cow, 20.0);
+  EXPECT_EQ(problem(person, 20.0).rfind("objects.obstacles[0]: a person in the train's way", 0), 0u)
+      << problem(person, 20.0);
+  EXPECT_EQ(problem(person, 5.0), "");
+  scenario::Json through = {{"route", {{"generator", {{"length_m", 1500}}}}}};
+  through["objects"]["obstacles"] = scenario::Json::array({cow, person});
+  through["train"]["stop_for_obstacles"] = false;
+  EXPECT_NO_THROW(planFor(through));
+}
+
+TEST(ObstacleStop, AnObstacleGivenOnTheDoubleTrackButAcrossTheMainTrackStopsTheTrain) {
+  // The double track runs 4 m to the right of the main track: a person 4 m to the left of its
+  // centre stands on the main track, and a car across the double track at 3 m to its left
+  // reaches over the main track's centre; the train stops short of each as of one given on
+  // track 0 at the same place.
+  const auto stopAt = [](const scenario::Json& obstacle) {
+    scenario::Json input = {{"route", {{"generator", {{"length_m", 2000}}}}},
+                            {"layout", {{"auxiliary", {{"probability", 0.0}}}}}};
+    input["objects"]["obstacles"] = scenario::Json::array({obstacle});
+    const std::unique_ptr<Plan> plan = planFor(input);
+    return plan->trajectory().sample(plan->trajectory().sampleCount() - 1).distance_m;
+  };
+  const double person = stopAt({{"track", 1}, {"chainage_m", 1500.0}, {"offset_m", 4.0}});
+  EXPECT_NEAR(person, stopAt({{"track", 0}, {"chainage_m", 1500.0}, {"offset_m", 0.0}}), 1e-3);
+  EXPECT_LT(person, 1500.0);
+  const double car = stopAt({{"kind", "car"},
+                             {"track", 1},
+                             {"chainage_m", 1500.0},
+                             {"offset_m", 3.0},
+                             {"heading_deg", 90.0}});
+  EXPECT_NEAR(car,
+              stopAt({{"kind", "car"},
+                      {"track", 0},
+                      {"chainage_m", 1500.0},
+                      {"offset_m", -1.0},
+                      {"heading_deg", 90.0}}),
+              1e-3);
+  EXPECT_LT(car, 1500.0);
 }
 
 }  // namespace

@@ -250,19 +250,37 @@ std::pair<double, double> outermostOffsets(const track::Layout& layout, double x
 
 // --- rails, sleepers, ballast ------------------------------------------------------------------
 
+BallastSection ballastSection(const AssetParams& A, double formation) {
+  BallastSection b;
+  b.sleeper_half = 0.5 * A.sleeper_length_m;
+  b.sleeper_top = -kSleeperTopDepth_m;
+  b.top = b.sleeper_top - 0.03;  // the crib a little below the sleeper tops
+  b.half_top = b.sleeper_half + A.ballast_shoulder_m;
+  b.half_bottom = b.half_top + A.ballast_slope * (formation + b.top);
+  b.formation = formation;
+  return b;
+}
+
+std::optional<double> BallastSection::heightAt(double y) const {
+  const double a = std::abs(y);
+  if (a <= sleeper_half)
+    return sleeper_top;
+  if (a <= half_top)
+    return top;
+  if (a < half_bottom)
+    return top - (top + formation) * (a - half_top) / (half_bottom - half_top);
+  return std::nullopt;
+}
+
 void addTrackAssets(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
-  const double formation = ctx.env.params().terrain.formation_depth_m;
   const auto profile = inclinedProfile(A.rail_inclination);
   const double centre = 0.5 * A.gauge_m + gaugeFaceOffset(A.rail_inclination);
-  const double sleeper_top = -kSleeperTopDepth_m;
-  const double ballast_top = sleeper_top - 0.03;  // the crib a little below the sleeper tops
-  const double half_top = 0.5 * A.sleeper_length_m + A.ballast_shoulder_m;
-  const double half_bottom = half_top + A.ballast_slope * (formation + ballast_top);
-  const std::vector<Eigen::Vector2d> ballast = {{half_bottom, -formation},
-                                                {half_top, ballast_top},
-                                                {-half_top, ballast_top},
-                                                {-half_bottom, -formation}};
+  const BallastSection bed_section = ballastSection(A, ctx.env.params().terrain.formation_depth_m);
+  const std::vector<Eigen::Vector2d> ballast = {{bed_section.half_bottom, -bed_section.formation},
+                                                {bed_section.half_top, bed_section.top},
+                                                {-bed_section.half_top, bed_section.top},
+                                                {-bed_section.half_bottom, -bed_section.formation}};
 
   for (const auto& t : ctx.env.railway().layout().tracks) {
     const auto runs = ownedRuns(ctx, t.id, -1e300, 1e300);
@@ -329,7 +347,8 @@ void addTrackAssets(TileContext& ctx) {
             b.distance_m > a.distance_m ? (d - a.distance_m) / (b.distance_m - a.distance_m) : 0.0;
         const track::TrackFrame f = ctx.env.railway().frame(
             t.id, a.main_chainage_m + w * (b.main_chainage_m - a.main_chainage_m));
-        const Eigen::Vector3d c = f.position + (sleeper_top - 0.5 * A.sleeper_height_m) * f.up;
+        const Eigen::Vector3d c =
+            f.position + (bed_section.sleeper_top - 0.5 * A.sleeper_height_m) * f.up;
         if (!ctx.owns(c))
           continue;
         scene::addOrientedBox(*bed, ctx.local(c),

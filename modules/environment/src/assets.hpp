@@ -140,6 +140,18 @@ std::pair<double, double> outermostOffsets(const track::Layout& layout, double x
 std::vector<CatenarySupport> planSupports(const terrain::Railway& railway, const AssetParams& A,
                                           int track);
 
+/// The ballast bed's cross-section in a track's canted (left, up) axes, from the top of rail:
+/// the sleepers' half length and top, the bed's top (the crib a little below the sleepers'
+/// tops) and its half widths there and at the formation, `formation` below the top of rail.
+struct BallastSection {
+  double sleeper_half = 0.0, sleeper_top = 0.0, top = 0.0, half_top = 0.0, half_bottom = 0.0;
+  double formation = 0.0;
+  /// The visible surface at `y` from the track's centre: the sleepers' tops, the bed's top, its
+  /// shoulder slope; nothing beyond the toe.
+  std::optional<double> heightAt(double y) const;
+};
+BallastSection ballastSection(const AssetParams& A, double formation);
+
 void addTrackAssets(TileContext& ctx);
 void addCatenary(TileContext& ctx);
 void addStructures(TileContext& ctx);

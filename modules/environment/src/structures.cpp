@@ -310,27 +310,60 @@ void addFencesAndSignals(TileContext& ctx) {
 
 void addObstacles(TileContext& ctx) {
   const std::vector<Obstacle>& list = ctx.env.params().objects.obstacles;
-  const terrain::Railway& railway = ctx.env.railway();
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const Obstacle& o = list[i];
-    if (obstacleOffTheLayout(railway.layout(), o))
+    const std::optional<PlacedObstacle> p = ctx.env.obstacle(i);
+    if (!p || !ctx.owns(p->foot))
       continue;
-    const track::TrackFrame f = railway.frame(o.track, o.chainage_m);
-    // On the sleepers' tops within 1.3 m of the track's centre (canted with the track), on the
-    // ground beyond; upright along the local vertical either way.
-    const Eigen::Vector3d over = f.position + o.offset_m * f.left;
-    const Eigen::Vector3d foot = std::abs(o.offset_m) <= 1.3
-                                     ? Eigen::Vector3d(over - kSleeperTopDepth_m * f.up)
-                                     : ctx.ground(over);
-    if (!ctx.owns(foot))
-      continue;
+    // Upright along the local vertical, facing heading_deg from its track's direction.
     const Eigen::Matrix3d axes =
-        ctx.upright(f.tangent) *
-        Eigen::AngleAxisd(o.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    ctx.tile.objects.push_back(scene::Object::place(
-        ctx.env.obstaclePrototype(o.kind), foot, axes.cast<float>(),
-        scene::trackAssetInstance(o.track, kObstacle, static_cast<std::int64_t>(i))));
+        ctx.upright(p->along) *
+        Eigen::AngleAxisd(list[i].heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    ctx.tile.objects.push_back(scene::Object::place(ctx.env.obstaclePrototype(list[i].kind),
+                                                    p->foot, axes.cast<float>(), p->instance));
   }
 }
 
 }  // namespace trainsim::environment::detail
+
+namespace trainsim::environment {
+
+std::optional<PlacedObstacle> Environment::obstacle(std::size_t i) const {
+  const Obstacle& o = params_.objects.obstacles.at(i);
+  if (obstacleOffTheLayout(railway_->layout(), o))
+    return std::nullopt;
+  const track::TrackFrame f = railway_->frame(o.track, o.chainage_m);
+  const Eigen::Vector3d over = f.position + o.offset_m * f.left;
+  // On the highest track bed under it (in that track's canted axes); beyond every bed on the
+  // terrain, or in a tunnel, where the terrain is the hill above, on the formation.
+  PlacedObstacle out;
+  out.instance =
+      scene::trackAssetInstance(o.track, detail::kObstacle, static_cast<std::int64_t>(i));
+  out.along = f.tangent;
+  const detail::BallastSection bed =
+      detail::ballastSection(params_.assets, params_.terrain.formation_depth_m);
+  std::optional<Eigen::Vector3d> on_bed;
+  for (const track::LayoutTrack& t : railway_->layout().tracks) {
+    if (!(o.chainage_m >= t.main_chainage_begin_m && o.chainage_m <= t.main_chainage_end_m))
+      continue;
+    const track::TrackFrame g = t.id == o.track ? f : railway_->frame(t.id, o.chainage_m);
+    const double y = (over - g.position).dot(g.left);
+    if (const std::optional<double> h = bed.heightAt(y)) {
+      const Eigen::Vector3d surface = g.position + y * g.left + *h * g.up;
+      if (!on_bed || surface.z() > on_bed->z())
+        on_bed = surface;
+    }
+  }
+  const bool tunnel = std::ranges::any_of(railway_->route().blocks, [&](const track::Block& b) {
+    return b.type == track::BlockType::kTunnel && o.chainage_m >= b.chainage_begin_m &&
+           o.chainage_m <= b.chainage_end_m;
+  });
+  if (on_bed)
+    out.foot = *on_bed;
+  else if (tunnel)
+    out.foot = over - bed.formation * f.up;
+  else
+    out.foot = {over.x(), over.y(), terrain_.heightAt(over.x(), over.y())};
+  return out;
+}
+
+}  // namespace trainsim::environment

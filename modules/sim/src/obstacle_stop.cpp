@@ -4,36 +4,56 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 #include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/error.hpp"
 
 namespace trainsim::sim::detail {
 
-std::optional<ObstacleStop> obstacleStop(const track::Route& route,
+std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track::Layout& layout,
                                          const std::vector<environment::Obstacle>& obstacles,
                                          const TrainConfig& train, double u_start) {
   const double half_width = 0.5 * train.body.width_m;
   // From the front pivot (at u) forward to the train's front.
   const double nose = train.frontX() - 0.5 * train.vehicle.bogie_spacing_m;
+  const auto plan = [](const Eigen::Vector3d& v) {
+    return Eigen::Vector2d(v.head<2>()).normalized();
+  };
   std::optional<ObstacleStop> first;
   for (std::size_t i = 0; i < obstacles.size(); ++i) {
     const environment::Obstacle& o = obstacles[i];
-    // The main track covers the route; an obstacle off it is left out of the scene.
-    if (o.track != 0 || !(o.chainage_m >= 0.0 && o.chainage_m <= route.track.length()))
-      continue;
-    // Its footprint in the track's axes at its chainage (x along the track, y to its left).
-    const Eigen::AlignedBox2d own = environment::obstacleFootprint(o.kind);
-    const Eigen::Rotation2Dd turn(o.heading_rad);
+    if (environment::obstacleOffTheLayout(layout, o))
+      continue;  // left out of the scene
+    // Its footprint's corners in plan, on whichever track it is given, then in the main track's
+    // axes at its chainage (x along the main track, y to its left): one given on the double
+    // track may stand across the main track.
+    const track::TrackFrame own = track::trackFrame(
+        route.track, layout.tracks[static_cast<std::size_t>(o.track)], o.chainage_m);
+    const track::TrackFrame main = track::trackFrame(route.track, layout.tracks[0], o.chainage_m);
+    const Eigen::Vector2d t = plan(own.tangent), l(-t.y(), t.x());
+    const Eigen::Vector2d x = std::cos(o.heading_rad) * t + std::sin(o.heading_rad) * l;
+    const Eigen::Vector2d y(-x.y(), x.x());
+    const Eigen::Vector2d centre = (own.position + o.offset_m * own.left).head<2>();
+    const Eigen::Vector2d t0 = plan(main.tangent), l0(-t0.y(), t0.x());
+    const Eigen::AlignedBox2d footprint = environment::obstacleFootprint(o.kind);
     Eigen::AlignedBox2d box;
     for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
-                              Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight})
-      box.extend(turn * own.corner(corner) + Eigen::Vector2d(0.0, o.offset_m));
+                              Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
+      const Eigen::Vector2d c = footprint.corner(corner);
+      const Eigen::Vector2d d = centre + c.x() * x + c.y() * y - main.position.head<2>();
+      box.extend(Eigen::Vector2d(d.dot(t0), d.dot(l0)));
+    }
     if (box.min().y() >= half_width || box.max().y() <= -half_width)
       continue;  // beside the train's way
     const double near_u = route.track.vertical().at(o.chainage_m).distance_m + box.min().x();
-    if (near_u < u_start + nose)
-      continue;  // behind the train's front at the start
     const double u = near_u - train.obstacle_margin_m - nose;
+    if (near_u < u_start + nose)
+      throw ConfigError(fmt::format(
+          "objects.obstacles[{}]: a {} under the train where it starts (its front at {:.1f} m of "
+          "the route): move it ahead of the train, or set train.stop_for_obstacles false to "
+          "leave it where it is",
+          i, nameOf(o.kind), u_start + nose));
     if (u < u_start + 1.0)
       throw ConfigError(fmt::format(
           "objects.obstacles[{}]: a {} in the train's way {:.1f} m ahead of its front at the "

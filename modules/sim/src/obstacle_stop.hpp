@@ -7,6 +7,7 @@
 
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/sim/config.hpp"
+#include "trainsim/track/layout.hpp"
 #include "trainsim/track/route.hpp"
 
 namespace trainsim::sim::detail {
@@ -17,12 +18,12 @@ struct ObstacleStop {
   double u_m = 0.0;       ///< the front pivot's distance along the main track at the stop
 };
 
-/// The stop obstacle_margin_m short of the nearest obstacle in the train's way ahead of its
-/// front at the start (the front pivot at distance `u_start`): one on the main track (track 0),
-/// whose footprint, turned by its heading, reaches within half the body's width of the track's
-/// centre. Throws ConfigError naming the obstacle when it stands too near the start for the
-/// train to stop short of it.
-std::optional<ObstacleStop> obstacleStop(const track::Route& route,
+/// The stop obstacle_margin_m short of the nearest obstacle in the train's way (the front pivot
+/// at distance `u_start` at the start): one whose footprint, turned by its heading, reaches
+/// within half the body's width of the main track's centre, on whichever layout track it is
+/// given. Throws ConfigError naming an obstacle in the way under the train where it starts, or
+/// too near ahead for it to stop short of.
+std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track::Layout& layout,
                                          const std::vector<environment::Obstacle>& obstacles,
                                          const TrainConfig& train, double u_start);
 

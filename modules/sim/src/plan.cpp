@@ -203,7 +203,7 @@ std::shared_ptr<const LayoutStage> buildLayoutStage(const scenario::Scenario& sc
 
 std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
                                                std::shared_ptr<const RouteStage> route,
-                                               std::uint64_t key) {
+                                               const track::Layout& layout, std::uint64_t key) {
   const TrainConfig train = trainSection().read(sc.json());
   const track::MotionLimits& limits = train.limits;
   const track::VehicleGeometry& vehicle = train.vehicle;
@@ -221,7 +221,7 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
   double u_stop = u_end;
   if (train.stop_for_obstacles && !clock.static_only) {
     const auto obstacles = objectsSection().read(sc.json()).obstacles;
-    if (const auto stop = detail::obstacleStop(r, obstacles, train, u_start);
+    if (const auto stop = detail::obstacleStop(r, layout, obstacles, train, u_start);
         stop && stop->u_m < u_end) {
       u_stop = stop->u_m;
       const environment::Obstacle& o = obstacles[stop->index];
@@ -283,10 +283,11 @@ Plan Planner::plan(const scenario::Scenario& sc) {
     layout_ = buildLayoutStage(sc, *route_, layout_key);
     ++layout_builds_;
   }
-  const std::uint64_t motion_key = stageKey(sc, "motion", {route_key});
+  // The layout too: an obstacle given on any of its tracks may stand in the train's way.
+  const std::uint64_t motion_key = stageKey(sc, "motion", {route_key, layout_key});
   if (!motion_ || motion_->key != motion_key) {
     throwIfCancelled();
-    motion_ = buildMotion(sc, route_, motion_key);
+    motion_ = buildMotion(sc, route_, layout_->layout, motion_key);
     ++motion_builds_;
   }
   // Obstacles stand on the layout's tracks: one that cannot is left out, said here (validate

@@ -2,9 +2,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "trainsim/core/cancel.hpp"
+#include "trainsim/core/enum_names.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/environment/environment.hpp"
@@ -78,6 +83,21 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
       scene::writeHeightVti(terrain_dir / (stem + ".vti"), heights.n, heights.origin,
                             heights.spacing_m, heights.heights);
   }
+  // The obstacles placed by hand, with their track-asset instance ids (as instances.csv gives
+  // them) and their yaw counter-clockwise from world x.
+  const std::vector<environment::Obstacle>& obstacles = env.params().objects.obstacles;
+  for (std::size_t i = 0; i < obstacles.size(); ++i)
+    if (const std::optional<environment::PlacedObstacle> p = env.obstacle(i)) {
+      const Eigen::AlignedBox2d footprint = environment::obstacleFootprint(obstacles[i].kind);
+      const double radius =
+          std::max(footprint.min().norm(), footprint.max().norm());  // about its foot
+      objects.write(fmt::format(
+          "{},{},0,{},{:.3f},{:.3f},{:.3f},{:.3f},{:.4f}\n", p->instance, nameOf(obstacles[i].kind),
+          scene::semanticClass(env.obstaclePrototype(obstacles[i].kind)->parts.back().cls).name,
+          p->foot.x(), p->foot.y(), p->foot.z(), radius,
+          std::remainder(std::atan2(p->along.y(), p->along.x()) + obstacles[i].heading_rad,
+                         2.0 * std::numbers::pi)));
+    }
   objects.commit();
   const Eigen::Vector3d origin = stage.railway->frame(0, from).position;
   scene::writeVtm(tiles, folder / "scene.vtm", origin);

@@ -182,7 +182,9 @@ const Binding<environment::Obstacle>& obstacleBinding() {
     b.number("chainage_m", &Ob::chainage_m, kM, "Main chainage (on the track's stretch)")
         .range(0, 1e7);
     b.number("offset_m", &Ob::offset_m, kM,
-             "From the track's centre, + left: on the sleepers within 1.3 m, on the ground beyond")
+             "From the track's centre, + left: it stands on the highest surface there (a track's "
+             "sleepers, its ballast bed's top or shoulder, the terrain; in a tunnel the "
+             "formation)")
         .range(-50, 50);
     b.number("heading_deg", &Ob::heading_rad, units::kDegree,
              "Which way it faces, counter-clockwise from the track's direction (90: across it, "

@@ -148,8 +148,9 @@ const scenario::Section<TrainConfig>& trainSection() {
              "The lead vehicle's body as a box in body axes (origin midway between the bogie "
              "pivots at top of rail): what it hides from the LiDARs and cameras on it.");
     b.boolean("stop_for_obstacles", &TrainConfig::stop_for_obstacles,
-              "An obstacle in the train's way (objects.obstacles on track 0 whose footprint "
-              "reaches within half the body's width of the track's centre) ends the run: the "
+              "An obstacle in the train's way (objects.obstacles, on any layout track, whose "
+              "footprint reaches within half the body's width of the main track's centre) ends "
+              "the run: the "
               "train brakes to a stop obstacle_margin_m short of the first one, and the route "
               "beyond it is not driven (trajectory.standstill_end_s records it standing there); "
               "false: the train runs through obstacles");

@@ -91,7 +91,7 @@ constexpr std::span<const EnumName<ObstacleKind>> enumNames(ObstacleKind) {
 }
 
 /// An obstacle placed by hand on or beside a layout track: a person, a car at a level crossing,
-/// a cow. It stands on the sleepers within 1.3 m of the track's centre, on the ground beyond.
+/// a cow. It stands on the highest surface under it (Environment::obstacle).
 struct Obstacle {
   ObstacleKind kind = ObstacleKind::kPerson;
   int track = 0;                              ///< layout track id (railroad.json)
@@ -105,6 +105,13 @@ struct ObjectParams {
   double cell_m = 8.0;                  ///< candidate lattice spacing
   std::vector<Obstacle> obstacles;
   ObjectParams();
+};
+
+/// Where an obstacle stands (Environment::obstacle).
+struct PlacedObstacle {
+  scene::InstanceId instance = 0;
+  Eigen::Vector3d foot = Eigen::Vector3d::Zero();    ///< world
+  Eigen::Vector3d along = Eigen::Vector3d::UnitX();  ///< its track's direction there (world)
 };
 
 /// An obstacle kind's footprint: the plan view of its mesh's bounds in its own axes (x the way
@@ -194,6 +201,10 @@ class Environment {
   /// wire, a signal. Nothing for anything else, platforms, tunnels, bridges and fences included:
   /// they stand by the line as a whole (their ids carry track 0 whichever track is nearest).
   std::optional<int> trackOf(scene::InstanceId instance) const;
+  /// Where objects.obstacles[i] stands: its foot on the highest surface under it (a track's
+  /// sleepers within half a sleeper of its centre, the ballast bed's top and shoulder slope
+  /// beyond, the terrain further out); nothing when the layout cannot hold it.
+  std::optional<PlacedObstacle> obstacle(std::size_t i) const;
   /// The shared mesh of an obstacle kind.
   const std::shared_ptr<const scene::Mesh>& obstaclePrototype(ObstacleKind kind) const {
     return obstacles_.at(static_cast<std::size_t>(kind));
