@@ -558,7 +558,7 @@ TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
   const World w = makeWorld(patch);
   const scene::TileGrid grid = w.env().grid();
   for (std::size_t i = 0; i < 4; ++i) {
-    const std::optional<environment::PlacedObstacle> p = w.env().obstacle(i);
+    const std::optional<environment::PlacedObstacle>& p = w.env().obstacle(i);
     ASSERT_TRUE(p) << i;
     const Eigen::Vector2d xy = p->foot.head<2>();
     double surface = -1e300;

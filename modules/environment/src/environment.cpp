@@ -136,6 +136,8 @@ Environment::Environment(std::shared_ptr<const terrain::Railway> railway, Enviro
     for (const track::LayoutTrack& t : tracks)
       supports_[static_cast<std::size_t>(t.id)] =
           detail::planSupports(*railway_, params_.assets, t.id);
+  for (std::size_t i = 0; i < params_.objects.obstacles.size(); ++i)
+    placed_.push_back(placeObstacle(i));
 }
 
 std::string_view signalAspectName(SignalAspect aspect) {

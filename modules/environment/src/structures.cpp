@@ -311,7 +311,7 @@ void addFencesAndSignals(TileContext& ctx) {
 void addObstacles(TileContext& ctx) {
   const std::vector<Obstacle>& list = ctx.env.params().objects.obstacles;
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::optional<PlacedObstacle> p = ctx.env.obstacle(i);
+    const std::optional<PlacedObstacle>& p = ctx.env.obstacle(i);
     if (!p || !ctx.owns(p->foot))
       continue;
     // Upright along the local vertical, facing heading_deg from its track's direction.
@@ -327,7 +327,7 @@ void addObstacles(TileContext& ctx) {
 
 namespace trainsim::environment {
 
-std::optional<PlacedObstacle> Environment::obstacle(std::size_t i) const {
+std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
   const Obstacle& o = params_.objects.obstacles.at(i);
   if (obstacleOffTheLayout(railway_->layout(), o))
     return std::nullopt;

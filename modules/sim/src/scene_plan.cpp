@@ -87,7 +87,7 @@ void writeScene(const EnvironmentStage& stage, const std::filesystem::path& fold
   // them) and their yaw counter-clockwise from world x.
   const std::vector<environment::Obstacle>& obstacles = env.params().objects.obstacles;
   for (std::size_t i = 0; i < obstacles.size(); ++i)
-    if (const std::optional<environment::PlacedObstacle> p = env.obstacle(i)) {
+    if (const std::optional<environment::PlacedObstacle>& p = env.obstacle(i)) {
       const Eigen::AlignedBox2d footprint = environment::obstacleFootprint(obstacles[i].kind);
       const double radius =
           std::max(footprint.min().norm(), footprint.max().norm());  // about its foot

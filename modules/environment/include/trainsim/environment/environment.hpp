@@ -203,8 +203,9 @@ class Environment {
   std::optional<int> trackOf(scene::InstanceId instance) const;
   /// Where objects.obstacles[i] stands: its foot on the highest surface under it (a track's
   /// sleepers within half a sleeper of its centre, the ballast bed's top and shoulder slope
-  /// beyond, the terrain further out); nothing when the layout cannot hold it.
-  std::optional<PlacedObstacle> obstacle(std::size_t i) const;
+  /// beyond, the terrain further out); nothing when the layout cannot hold it. Worked out once,
+  /// when the environment is made: every tile asks about every obstacle.
+  const std::optional<PlacedObstacle>& obstacle(std::size_t i) const { return placed_.at(i); }
   /// The shared mesh of an obstacle kind.
   const std::shared_ptr<const scene::Mesh>& obstaclePrototype(ObstacleKind kind) const {
     return obstacles_.at(static_cast<std::size_t>(kind));
@@ -213,6 +214,8 @@ class Environment {
   const std::shared_ptr<const scene::Mesh>& prototype(std::size_t kind, int variant) const;
 
  private:
+  std::optional<PlacedObstacle> placeObstacle(std::size_t i) const;
+
   std::shared_ptr<const terrain::Railway> railway_;
   EnvironmentParams params_;
   std::uint64_t seed_;
@@ -222,6 +225,7 @@ class Environment {
   std::array<std::shared_ptr<const scene::Mesh>, 3> signals_;    // by SignalAspect
   std::array<std::shared_ptr<const scene::Mesh>, 3> obstacles_;  // by ObstacleKind
   std::vector<std::vector<CatenarySupport>> supports_;           // by layout track
+  std::vector<std::optional<PlacedObstacle>> placed_;            // by objects.obstacles entry
   std::optional<GeodeticAnchor> anchor_;  // the Earth the track was laid on, if it was
 };
 
