@@ -112,12 +112,27 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   const std::size_t L = p.lasers.size();
   const auto W = static_cast<std::size_t>(p.columns);
   directions_.resize(W * L);
+  const bool offset = p.offsetBeams();
+  if (offset)
+    origins_.resize(W * L);
   for (std::size_t l = 0; l < L; ++l)
     for (std::size_t c = 0; c < W; ++c) {
       const double a = p.azimuthDeg(static_cast<int>(c), static_cast<int>(l)) * kRadPerDeg;
       const double e = p.lasers[l].elevation_deg * kRadPerDeg;
       directions_[l * W + c] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      if (!offset)
+        continue;
+      // Laser::vertical_offset_m, horizontal_offset_m and the pattern's beam origin radius
+      // (towards where the head points) and height.
+      const double head = p.headAzimuthDeg(static_cast<int>(c), static_cast<int>(l)) * kRadPerDeg;
+      const Laser& laser = p.lasers[l];
+      origins_[l * W + c] =
+          laser.vertical_offset_m *
+              Eigen::Vector3d(-std::sin(e) * std::cos(a), -std::sin(e) * std::sin(a), std::cos(e)) +
+          laser.horizontal_offset_m * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0) +
+          p.beam_origin_radius_m * Eigen::Vector3d(std::cos(head), std::sin(head), 0.0) +
+          p.beam_origin_height_m * Eigen::Vector3d::UnitZ();
     }
   if (params_.vehicle && params_.vehicle->box.contains(params_.vehicle->sensor_pose.translation()))
     throw ConfigError("LiDAR: the sensor is inside its vehicle's body");
@@ -125,12 +140,18 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   for (const Eigen::Vector3d& d : directions_)
     axes_.push_back(d.cast<float>());
   padded_ = (W + 7) / 8 * 8;
-  beams_.assign(4 * L * padded_, 0.0f);
+  beams_.assign((offset ? 7 : 4) * L * padded_, 0.0f);
   for (std::size_t l = 0; l < L; ++l)
     for (std::size_t c = 0; c < W; ++c) {
+      const auto i = static_cast<int>(c), j = static_cast<int>(l);
       for (std::size_t k = 0; k < 3; ++k)
         beams_[(k * L + l) * padded_ + c] = axes_[l * W + c][static_cast<Eigen::Index>(k)];
-      beams_[(3 * L + l) * padded_ + c] = static_cast<float>(reach(directions_[l * W + c]));
+      beams_[(3 * L + l) * padded_ + c] =
+          static_cast<float>(reach(directions_[l * W + c], origin(i, j)));
+      if (offset)
+        for (std::size_t k = 0; k < 3; ++k)
+          beams_[((4 + k) * L + l) * padded_ + c] =
+              static_cast<float>(origin(i, j)[static_cast<Eigen::Index>(k)]);
     }
   ring_lasers_ = p.ringLasers();
   // Columns a task casts of one ring: about kTaskRays rays, at least a packet's worth of pulses,
@@ -292,7 +313,13 @@ std::size_t Scanner::castPulses(const RayScene& scene, const RandomStream& rando
   setup.ax = &beams_[l * P];
   setup.ay = &beams_[(L + l) * P];
   setup.az = &beams_[(2 * L + l) * P];
+  if (!origins_.empty()) {
+    setup.bx = &beams_[(4 * L + l) * P];
+    setup.by = &beams_[(5 * L + l) * P];
+    setup.bz = &beams_[(6 * L + l) * P];
+  }
   setup.directions = params_.motion_compensated ? nullptr : &directions_[l * W];
+  setup.origins = params_.motion_compensated || origins_.empty() ? nullptr : &origins_[l * W];
   setup.key_sign = keySign();
   setup.ring = static_cast<std::uint16_t>(ring);
   setup.returns = R;
@@ -347,6 +374,10 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
   LidarPoint* points = w.points.data() + ring * W * R;
   float* keys = w.keys.data() + ring * W * R;
   float* coverages = w.coverage.data() + ring * W * R;
+  const Eigen::Vector3d* origins = origins_.empty() ? nullptr : &origins_[l * W];
+  const auto origin = [&](std::size_t c) -> Eigen::Vector3d {
+    return origins != nullptr ? origins[c] : Eigen::Vector3d::Zero();
+  };
   std::size_t found = 0;
 
   // Writes slot c R + j of the ring, return j of column c: the echo at `truth` m with
@@ -361,13 +392,19 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
       keys[slot] = kNoReturn;
       return;
     }
-    const Eigen::Vector3f xyz = deskewed(frames, padded, c, axes[c] * range_m);
+    const Eigen::Vector3f along = axes[c] * range_m;
+    const Eigen::Vector3f xyz =
+        deskewed(frames, padded, c,
+                 origins != nullptr ? Eigen::Vector3f(along + origin(c).cast<float>()) : along);
     storePoint(points[slot], xyz, static_cast<float>(scaledIntensity(rho, range_m, falloff, scale)),
                range_m, label.object, static_cast<std::uint16_t>(c), ring_id, label.cls,
                static_cast<std::uint8_t>(label.material), static_cast<std::uint8_t>(j));
     // Ordered by the coordinates the dataset writes: as Scanner::written() gives them.
+    const Eigen::Vector3d measured = directions[c] * static_cast<double>(range_m);
     const Eigen::Vector3f written =
-        compensated ? xyz : (directions[c] * static_cast<double>(range_m)).cast<float>();
+        compensated
+            ? xyz
+            : (origins != nullptr ? Eigen::Vector3d(measured + origin(c)) : measured).cast<float>();
     keys[slot] = ringKey(written.x(), written.y(), key_sign);
     ++found;
   };

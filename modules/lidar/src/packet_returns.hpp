@@ -76,9 +76,13 @@ struct PacketSetup {
   const float* frames = nullptr;
   std::size_t padded = 0, deskew = 0, shift = 0;
   const float *ax = nullptr, *ay = nullptr, *az = nullptr;  // the laser's beam axes by column
+  /// Where the laser's beam leaves the head, by column (Scanner::origin()); null: at the origin.
+  const float *bx = nullptr, *by = nullptr, *bz = nullptr;
   /// The laser's directions by column, to key points by their coordinates as measured
-  /// (LidarParams::motion_compensated off); null: keyed by the deskewed ones.
+  /// (LidarParams::motion_compensated off); null: keyed by the deskewed ones. `origins` the
+  /// same for the beams' origins (null: at the origin).
   const Eigen::Vector3d* directions = nullptr;
+  const Eigen::Vector3d* origins = nullptr;
   float key_sign = 1.0f;  // ringKey()'s: −1 keys from the rear
   std::uint16_t ring = 0;
   std::size_t returns = 1;  // slots a pulse has

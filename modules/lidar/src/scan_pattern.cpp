@@ -41,6 +41,20 @@ const std::vector<ScanPattern>& presets() {
       for (const auto& l : p.at("lasers"))
         s.lasers.push_back(
             {l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>() * 1e-6, 0});
+      // Beam origins, by laser id (a Velodyne calibration's) or for every beam (an Ouster's).
+      const auto offsets = [&](const char* key, double Laser::*field) {
+        if (!p.contains(key))
+          return;
+        if (p.at(key).size() != s.lasers.size())
+          throw RuntimeError(fmt::format("lidars.json: {}'s {} has {} values for {} lasers", s.name,
+                                         key, p.at(key).size(), s.lasers.size()));
+        for (std::size_t l = 0; l < s.lasers.size(); ++l)
+          s.lasers[l].*field = p.at(key).at(l).get<double>();
+      };
+      offsets("vertical_offsets_m", &Laser::vertical_offset_m);
+      offsets("horizontal_offsets_m", &Laser::horizontal_offset_m);
+      s.beam_origin_radius_m = p.value("beam_origin_radius_m", 0.0);
+      s.beam_origin_height_m = p.value("beam_origin_height_m", 0.0);
       s.assignRings();
       out.push_back(std::move(s));
     }
@@ -57,6 +71,13 @@ double ScanPattern::azimuthDeg(int column, int laser) const {
          360.0 * (static_cast<double>(first_column + column) / revolutionColumns() +
                   rotation_hz * l.time_offset_s) +
          l.azimuth_offset_deg;
+}
+
+bool ScanPattern::offsetBeams() const {
+  return beam_origin_radius_m != 0.0 || beam_origin_height_m != 0.0 ||
+         std::any_of(lasers.begin(), lasers.end(), [](const Laser& l) {
+           return l.vertical_offset_m != 0.0 || l.horizontal_offset_m != 0.0;
+         });
 }
 
 std::vector<int> ScanPattern::ringLasers() const {

@@ -17,14 +17,14 @@ using detail::kPoseStep;
 using detail::kRot;
 using detail::kShift;
 
-double Scanner::reach(const Eigen::Vector3d& direction) const {
+double Scanner::reach(const Eigen::Vector3d& direction, const Eigen::Vector3d& from) const {
   const double limit = params_.pattern.range_max_m;
   if (!params_.vehicle)
     return limit;
   // Where the ray enters the box, by the slab test in the vehicle's axes (the sensor is
   // outside it, so the entry is the first point of the vehicle on the ray).
   const Eigen::AlignedBox3d& box = params_.vehicle->box;
-  const Eigen::Vector3d o = params_.vehicle->sensor_pose.translation();
+  const Eigen::Vector3d o = params_.vehicle->sensor_pose * from;
   const Eigen::Vector3d d = params_.vehicle->sensor_pose.linear() * direction;
   double enter = 0.0, leave = limit;
   for (int k = 0; k < 3; ++k) {
@@ -54,7 +54,11 @@ void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
   const std::size_t n = footprint_.size();  // several (one ray a pulse: fillPackets())
   for (std::size_t c = begin; c < end; ++c) {
     const Eigen::Isometry3d& T = poses[c];
-    const Eigen::Vector3f o = (T.translation() - origin).cast<float>();
+    // The beam's origin (Scanner::origin()), shared by its sub-rays.
+    const Eigen::Vector3d b = this->origin(static_cast<int>(c), laser);
+    const Eigen::Vector3f o = (origins_.empty() ? Eigen::Vector3d(T.translation() - origin)
+                                                : Eigen::Vector3d(T * b - origin))
+                                  .cast<float>();
     const Eigen::Vector3d& d = direction(static_cast<int>(c), laser);
     // Across the beam: v horizontal (azimuth increasing), u = d × v (elevation increasing).
     Eigen::Vector3d v(-d.y(), d.x(), 0.0);
@@ -68,7 +72,7 @@ void Scanner::pulseRays(int laser, std::size_t begin, std::size_t end,
                        : Eigen::Vector3d(std::cos(angle) * d +
                                          std::sin(angle) / angle * (f.x() * v + f.y() * u));
       out[(c - begin) * n + k] = {o, (T.linear() * sub).cast<float>().normalized(), 0.0f,
-                                  params_.vehicle ? static_cast<float>(reach(sub)) : t_far};
+                                  params_.vehicle ? static_cast<float>(reach(sub, b)) : t_far};
     }
   }
 }
@@ -132,6 +136,10 @@ void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const f
   const float* __restrict ay = &beams_[(L + l) * P];
   const float* __restrict az = &beams_[(2 * L + l) * P];
   const float* __restrict reach = &beams_[(3 * L + l) * P];
+  const bool offset = !origins_.empty();
+  const float* __restrict ox = offset ? &beams_[(4 * L + l) * P] : nullptr;
+  const float* __restrict oy = offset ? &beams_[(5 * L + l) * P] : nullptr;
+  const float* __restrict oz = offset ? &beams_[(6 * L + l) * P] : nullptr;
   const float* __restrict f = frames;
   // Whole packets: begin is a multiple of 8 and the tables are padded to one. Eight lanes at a
   // time in Eigen's arrays (vector code).
@@ -142,9 +150,19 @@ void Scanner::fillPackets(int laser, std::size_t begin, std::size_t end, const f
     RayPacket& q = out[(c0 - begin) / 8];
     const auto field = [&](std::size_t k) { return lanes(f + k * P + c0); };
     const F8 x = lanes(ax + c0), y = lanes(ay + c0), z = lanes(az + c0);
-    into(q.org_x) = field(kOrigin);
-    into(q.org_y) = field(kOrigin + 1);
-    into(q.org_z) = field(kOrigin + 2);
+    if (offset) {  // from where the beam leaves the head, turned into world axes
+      const F8 bx = lanes(ox + c0), by = lanes(oy + c0), bz = lanes(oz + c0);
+      into(q.org_x) =
+          field(kOrigin) + (field(kRot) * bx + field(kRot + 1) * by + field(kRot + 2) * bz);
+      into(q.org_y) =
+          field(kOrigin + 1) + (field(kRot + 3) * bx + field(kRot + 4) * by + field(kRot + 5) * bz);
+      into(q.org_z) =
+          field(kOrigin + 2) + (field(kRot + 6) * bx + field(kRot + 7) * by + field(kRot + 8) * bz);
+    } else {
+      into(q.org_x) = field(kOrigin);
+      into(q.org_y) = field(kOrigin + 1);
+      into(q.org_z) = field(kOrigin + 2);
+    }
     into(q.dir_x) = field(kRot) * x + field(kRot + 1) * y + field(kRot + 2) * z;
     into(q.dir_y) = field(kRot + 3) * x + field(kRot + 4) * y + field(kRot + 5) * z;
     into(q.dir_z) = field(kRot + 6) * x + field(kRot + 7) * y + field(kRot + 8) * z;

@@ -159,8 +159,11 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
                           "frame); the default is the cab roof"}));
     b.choice("model", &C::model,
              "Scan pattern: Velodyne HDL-64E S3, VLP-16, HDL-32E, VLP-32C, Ouster OS1-64 or "
-             "OS1-128 from their calibration tables (resources/lidars.json), or uniform (the "
-             "fields under uniform)");
+             "OS1-128 from their calibration tables (resources/lidars.json: each laser's angles, "
+             "firing time and where its beam leaves the head, in the frame the device's driver "
+             "writes points in: an HDL-64E's beams start 0.14-0.22 m above its origin, an OS1's "
+             "36 mm above and 16 mm out, and ranges are measured from there), or uniform (the "
+             "fields under uniform; every beam from the origin)");
     b.number("rotation_hz", &C::rotation_hz, units::si("Hz"),
              "Spin rate; one revolution must fit in period_ns. A Velodyne spins at 5 ... 20 Hz, "
              "an Ouster at 10 or 20 Hz (its modes)")

@@ -160,18 +160,31 @@ class Scanner {
   float time(const LidarPoint& p) const {
     return static_cast<float>(params_.pattern.firingTime(p.column, laser(p)));
   }
+  /// Where laser l's beam leaves the head in column c, sensor frame (ScanPattern's beam
+  /// offsets; the origin for a pattern without them). A ray starts there, and its range is
+  /// measured from there.
+  Eigen::Vector3d origin(int column, int laser) const {
+    if (origins_.empty())
+      return Eigen::Vector3d::Zero();
+    return origins_[static_cast<std::size_t>(laser) *
+                        static_cast<std::size_t>(params_.pattern.columns) +
+                    static_cast<std::size_t>(column)];
+  }
   /// A point in the sensor frame at its firing time (as the sensor measures it, not deskewed):
-  /// its beam's axis times its range.
+  /// its beam's origin plus its axis times its range.
   Eigen::Vector3f measured(const LidarPoint& p) const {
-    return (direction(p.column, laser(p)) * static_cast<double>(p.range_m)).cast<float>();
+    const int l = laser(p);
+    const Eigen::Vector3d along = direction(p.column, l) * static_cast<double>(p.range_m);
+    return (origins_.empty() ? along : Eigen::Vector3d(origin(p.column, l) + along)).cast<float>();
   }
   /// The coordinates a dataset writes for `p` (LidarParams::motion_compensated).
   Eigen::Vector3f written(const LidarPoint& p) const {
     return params_.motion_compensated ? p.xyz : measured(p);
   }
-  /// How far a ray along `direction` (sensor frame, unit) reaches: the range limit, or less
-  /// where the vehicle (LidarParams::vehicle) is in the way.
-  double reach(const Eigen::Vector3d& direction) const;
+  /// How far a ray from `from` along `direction` (sensor frame, unit) reaches: the range limit,
+  /// or less where the vehicle (LidarParams::vehicle) is in the way.
+  double reach(const Eigen::Vector3d& direction,
+               const Eigen::Vector3d& from = Eigen::Vector3d::Zero()) const;
 
  private:
   int laser(const LidarPoint& p) const { return ring_lasers_[p.ring]; }
@@ -198,8 +211,10 @@ class Scanner {
   LidarParams params_;
   std::vector<Eigen::Vector3d> directions_;  // laser-major: [laser][column]
   std::vector<Eigen::Vector3f> axes_;        // the same in float
+  std::vector<Eigen::Vector3d> origins_;     // laser-major; empty when every beam leaves (0,0,0)
   std::size_t padded_ = 0;                   // columns rounded up to a packet's eight
-  /// The beam axes and each one's reach() by lane: [x, y, z, reach][laser][padded_ columns].
+  /// The beam axes and each one's reach() by lane: [x, y, z, reach][laser][padded_ columns];
+  /// then, with origins_, the beams' origins: [x, y, z][laser][padded_ columns].
   std::vector<float> beams_;
   std::vector<Eigen::Vector2d> footprint_;  // sub-ray offsets (rad) across and along the beam
   std::vector<int> ring_lasers_;            // the laser of each ring

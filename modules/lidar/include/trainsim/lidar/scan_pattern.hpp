@@ -15,6 +15,15 @@ struct Laser {
   double azimuth_offset_deg = 0.0;  ///< counter-clockwise seen from above, added to the column's
   double time_offset_s = 0.0;       ///< firing time after its column's start
   int ring = 0;                     ///< rank by elevation, 0 = the highest (KITTI, A-LOAM)
+  /// Where the beam leaves the head, as a Velodyne calibration gives it (vert_offset_correction
+  /// and horiz_offset_correction): `vertical_offset_m` up across the beam, at right angles to
+  /// it, and `horizontal_offset_m` to its left, level. A return at range r along the beam's
+  /// direction d (elevation ω, azimuth α) lies at
+  ///   r d + vertical_offset_m (−sin ω cos α, −sin ω sin α, cos ω) + horizontal_offset_m (−sin α,
+  ///   cos α, 0),
+  /// as the velodyne driver writes it (rawdata.cc).
+  double vertical_offset_m = 0.0;
+  double horizontal_offset_m = 0.0;
 };
 
 /// A rotating LiDAR's firing pattern. The head spins clockwise seen from above (as Velodyne and
@@ -46,6 +55,13 @@ struct ScanPattern {
   /// the (columns, Hz) pairs its firmware offers (empty: any columns the firing allows).
   double rotation_hz_min = 0.0, rotation_hz_max = 0.0;
   std::vector<std::pair<int, double>> modes;
+  /// Where an Ouster's beams leave the head: `beam_origin_radius_m` out from the spin axis
+  /// towards the column's azimuth (lidar_origin_to_beam_origin_mm) and `beam_origin_height_m`
+  /// above the sensor frame's origin (lidar_to_sensor_transform's z), every beam alike.
+  double beam_origin_radius_m = 0.0, beam_origin_height_m = 0.0;
+
+  /// Whether any beam leaves the head off the sensor frame's origin.
+  bool offsetBeams() const;
 
   int revolutionColumns() const { return revolution_columns > 0 ? revolution_columns : columns; }
   /// Whether the scan fires the whole revolution (no azimuth window).
@@ -54,6 +70,11 @@ struct ScanPattern {
   double revolution() const { return 1.0 / rotation_hz; }
   /// The azimuth of laser l's ray in scan column c, degrees (not wrapped).
   double azimuthDeg(int column, int laser) const;
+  /// Where the head points when laser l fires in scan column c: azimuthDeg() without the
+  /// laser's own azimuth offset, degrees.
+  double headAzimuthDeg(int column, int laser) const {
+    return azimuthDeg(column, laser) - lasers[static_cast<std::size_t>(laser)].azimuth_offset_deg;
+  }
   /// The firing time of scan column c after the frame time, seconds.
   double columnTime(int column) const { return (first_column + column) * columnPeriod(); }
   /// The firing time of laser l in scan column c after the frame time, seconds.
