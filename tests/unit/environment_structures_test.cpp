@@ -11,7 +11,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "unit/environment_world.hpp"
 
@@ -545,60 +548,122 @@ TEST(Obstacles, StandWhereTheScenarioPutsThemAsObjectsOfTheirOwn) {
   }
 }
 
+// The tiles of `w`'s scene around xy (its own and the eight about it).
+std::vector<std::shared_ptr<const scene::Tile>> tilesAround(const World& w,
+                                                            const Eigen::Vector2d& xy) {
+  std::vector<std::shared_ptr<const scene::Tile>> out;
+  const scene::TileIndex at = w.env().grid().tileAt(xy.x(), xy.y());
+  for (int di = -1; di <= 1; ++di)
+    for (int dj = -1; dj <= 1; ++dj)
+      if (w.env().tiles().contains({at.i + di, at.j + dj}))
+        out.push_back(w.env().tile({at.i + di, at.j + dj}));
+  return out;
+}
+
+// The highest surface of `tiles` of the given classes under xy: its height, interpolated in the
+// triangle's plan, and its class (none where no triangle is under xy).
+std::optional<std::pair<double, scene::ClassId>> highestUnder(
+    const std::vector<std::shared_ptr<const scene::Tile>>& tiles, const Eigen::Vector2d& xy,
+    const std::vector<scene::ClassId>& classes) {
+  std::optional<std::pair<double, scene::ClassId>> out;
+  for (const auto& tile : tiles)
+    for (const scene::Object& o : tile->objects)
+      for (const scene::MeshPart& part : o.mesh->parts) {
+        if (std::ranges::find(classes, part.cls) == classes.end())
+          continue;
+        for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
+             ++t) {
+          const auto& tri = o.mesh->triangles[t];
+          const Eigen::Vector3d a = o.worldVertex(tri[0]), b = o.worldVertex(tri[1]),
+                                c = o.worldVertex(tri[2]);
+          // Barycentric coordinates of xy in the triangle's plan.
+          const Eigen::Vector2d e1 = (b - a).head<2>(), e2 = (c - a).head<2>();
+          const double det = e1.x() * e2.y() - e1.y() * e2.x();
+          if (std::abs(det) < 1e-12)
+            continue;
+          const Eigen::Vector2d d = xy - a.head<2>();
+          const double u = (d.x() * e2.y() - d.y() * e2.x()) / det;
+          const double v = (e1.x() * d.y() - e1.y() * d.x()) / det;
+          if (u < -1e-9 || v < -1e-9 || u + v > 1.0 + 1e-9)
+            continue;
+          const double z = a.z() + u * (b - a).z() + v * (c - a).z();
+          if (!out || z > out->first)
+            out = std::pair{z, part.cls};
+        }
+      }
+  return out;
+}
+
 TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
   // Persons beside the main track: on the ballast's top past the sleepers' ends, on its shoulder
-  // slope, between the double track's two beds, past the beds on the ground. Each foot is
-  // checked against the scene's own meshes (the highest ballast, sleeper or terrain triangle
-  // under it, interpolated), not against the placement's own section.
+  // slope, between the double track's two beds, past the beds on the ground; on a station's
+  // platform and on a bridge's deck beside the ballast. Each foot is checked against the scene's
+  // own meshes (the highest ballast, sleeper, terrain, platform or bridge triangle under it,
+  // interpolated), not against the placement's own section.
+  const std::vector<scene::ClassId> ground = {scene::cls::kTrackbed, scene::cls::kSleeper,
+                                              scene::cls::kTerrain, scene::cls::kPlatform,
+                                              scene::cls::kBridge};
+  // Where the platform and the deck are, found in the default scene: across the middle of the
+  // station and of the bridge, the first offset (every 10 cm out from the main track, on the
+  // side with the platform, and on the right for the deck) where the highest surface is the
+  // structure's, then 1.5 m (the platform) or 0.3 m (the deck) further out.
+  const World& plain = defaultWorld();
+  const auto found = [&](track::BlockType type, double side, scene::ClassId cls, double in) {
+    for (const terrain::Structure& s : plain.railway().structures()) {
+      if (s.type != type)
+        continue;
+      const double x = 0.5 * (s.chainage_begin_m + s.chainage_end_m);
+      const track::TrackFrame f = plain.railway().frame(0, x);
+      const auto tiles = tilesAround(plain, f.position.head<2>());
+      for (double y = 0.0; y < 20.0; y += 0.1) {
+        const auto top = highestUnder(tiles, (f.position + side * y * f.left).head<2>(), ground);
+        if (top && top->second == cls)
+          return std::pair{x, side * (y + in)};
+      }
+    }
+    ADD_FAILURE() << "no structure of that kind found";
+    return std::pair{0.0, 0.0};
+  };
+  std::pair<double, double> platform =
+      found(track::BlockType::kStation, 1.0, scene::cls::kPlatform, 1.5);
+  if (platform.second == 0.0)
+    return;
+  const std::pair<double, double> deck =
+      found(track::BlockType::kBridge, -1.0, scene::cls::kBridge, 0.3);
   Json patch;
-  patch["objects"]["obstacles"] = Json::array({{{"chainage_m", 1300.0}, {"offset_m", 1.5}},
-                                               {{"chainage_m", 1350.0}, {"offset_m", 2.2}},
-                                               {{"chainage_m", 1400.0}, {"offset_m", -2.0}},
-                                               {{"chainage_m", 1450.0}, {"offset_m", 3.5}}});
+  patch["objects"]["obstacles"] =
+      Json::array({{{"chainage_m", 1300.0}, {"offset_m", 1.5}},
+                   {{"chainage_m", 1350.0}, {"offset_m", 2.2}},
+                   {{"chainage_m", 1400.0}, {"offset_m", -2.0}},
+                   {{"chainage_m", 1450.0}, {"offset_m", 3.5}},
+                   {{"chainage_m", platform.first}, {"offset_m", platform.second}},
+                   {{"chainage_m", deck.first}, {"offset_m", deck.second}}});
   const World w = makeWorld(patch);
-  const scene::TileGrid grid = w.env().grid();
-  for (std::size_t i = 0; i < 4; ++i) {
+  for (std::size_t i = 0; i < 6; ++i) {
     const std::optional<environment::PlacedObstacle>& p = w.env().obstacle(i);
     ASSERT_TRUE(p) << i;
-    const Eigen::Vector2d xy = p->foot.head<2>();
-    double surface = -1e300;
-    const scene::TileIndex at = grid.tileAt(xy.x(), xy.y());
-    for (int di = -1; di <= 1; ++di)
-      for (int dj = -1; dj <= 1; ++dj) {
-        if (!w.env().tiles().contains({at.i + di, at.j + dj}))
-          continue;
-        const std::shared_ptr<const scene::Tile> tile = w.env().tile({at.i + di, at.j + dj});
-        for (const scene::Object& o : tile->objects)
-          for (const scene::MeshPart& part : o.mesh->parts) {
-            if (part.cls != scene::cls::kTrackbed && part.cls != scene::cls::kSleeper &&
-                part.cls != scene::cls::kTerrain)
-              continue;
-            for (std::uint32_t t = part.first_triangle;
-                 t < part.first_triangle + part.triangle_count; ++t) {
-              const auto& tri = o.mesh->triangles[t];
-              const Eigen::Vector3d a = o.worldVertex(tri[0]), b = o.worldVertex(tri[1]),
-                                    c = o.worldVertex(tri[2]);
-              // Barycentric coordinates of xy in the triangle's plan.
-              const Eigen::Vector2d e1 = (b - a).head<2>(), e2 = (c - a).head<2>();
-              const double det = e1.x() * e2.y() - e1.y() * e2.x();
-              if (std::abs(det) < 1e-12)
-                continue;
-              const Eigen::Vector2d d = xy - a.head<2>();
-              const double u = (d.x() * e2.y() - d.y() * e2.x()) / det;
-              const double v = (e1.x() * d.y() - e1.y() * d.x()) / det;
-              if (u < -1e-9 || v < -1e-9 || u + v > 1.0 + 1e-9)
-                continue;
-              surface = std::max(surface, a.z() + u * (b - a).z() + v * (c - a).z());
-            }
-          }
-      }
-    // The ballast within 2 cm; the terrain within 5 cm (its mesh is simplified to 2 cm of the
-    // height grid, whose own triangles differ from the grid's bilinear heights by a little more).
-    EXPECT_NEAR(p->foot.z(), surface, i < 3 ? 0.02 : 0.05) << i;
+    const auto surface = highestUnder(tilesAround(w, p->foot.head<2>()), p->foot.head<2>(), ground);
+    ASSERT_TRUE(surface) << i;
+    // The ballast and the structures within 2 cm; the terrain within 5 cm (its mesh is
+    // simplified to 2 cm of the height grid, whose own triangles differ from the grid's
+    // bilinear heights by a little more).
+    EXPECT_NEAR(p->foot.z(), surface->first, i == 3 ? 0.05 : 0.02) << i;
   }
-  // The first three stand on ballast, above the formation the terrain meets beside the bed.
+  for (const auto& [i, cls] :
+       {std::pair{4, scene::cls::kPlatform}, std::pair{5, scene::cls::kBridge}}) {
+    const Eigen::Vector2d xy = w.env().obstacle(static_cast<std::size_t>(i))->foot.head<2>();
+    EXPECT_EQ(highestUnder(tilesAround(w, xy), xy, ground)->second, cls) << i;
+  }
+  // The first three stand on ballast, above the formation the terrain meets beside the bed; the
+  // person on the platform platform_height_m above the top of rail, the one on the bridge at
+  // the formation, metres above the valley floor under the deck.
   const double rail = w.railway().frame(0, 1300.0).position.z();
   EXPECT_NEAR(w.env().obstacle(0)->foot.z(), rail - 0.212, 0.01);
+  const environment::AssetParams& A = w.env().params().assets;
+  EXPECT_NEAR(w.env().obstacle(4)->foot.z(),
+              w.railway().frame(0, platform.first).position.z() + A.platform_height_m, 0.05);
+  const Eigen::Vector3d on_deck = w.env().obstacle(5)->foot;
+  EXPECT_GT(on_deck.z() - w.env().terrain().heightAt(on_deck.x(), on_deck.y()), 3.0);
 }
 
 }  // namespace

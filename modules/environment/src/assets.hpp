@@ -152,6 +152,24 @@ struct BallastSection {
 };
 BallastSection ballastSection(const AssetParams& A, double formation);
 
+/// A station's side platform on `side` (+1 left, −1 right of the main track): the stretch of
+/// main chainage it is laid along and its front (`edge`) and back offsets from the main track,
+/// its top platform_height_m above the top of rail; none where no stretch is long enough.
+struct PlatformSpan {
+  double x0 = 0.0, x1 = 0.0, edge = 0.0, back = 0.0;
+};
+std::optional<PlatformSpan> platformSpan(const track::Layout& layout, const AssetParams& A,
+                                         const terrain::Structure& station, int side);
+/// A bridge's deck between offsets `right` and `left` of the main track, its top at the
+/// formation, with a parapet kParapet_m wide along each edge, on the deck, its top 1 m above
+/// the top of rail.
+struct BridgeDeck {
+  double right = 0.0, left = 0.0;
+};
+constexpr double kParapet_m = 0.3;
+BridgeDeck bridgeDeck(const track::Layout& layout, const AssetParams& A,
+                      const terrain::Structure& bridge);
+
 void addTrackAssets(TileContext& ctx);
 void addCatenary(TileContext& ctx);
 void addStructures(TileContext& ctx);

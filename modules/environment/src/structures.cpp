@@ -50,6 +50,31 @@ std::pair<double, double> clearStretch(const track::Layout& layout, double x0, d
 
 }  // namespace
 
+std::optional<PlatformSpan> platformSpan(const track::Layout& layout, const AssetParams& A,
+                                         const terrain::Structure& station, int side) {
+  // Beyond the outermost track on the side where the tracks run parallel. An auxiliary track's
+  // leg turning in within the station would stand in the platform: the platform keeps to the
+  // longest stretch clear of it (standing beyond the leg instead put it metres from every
+  // track).
+  const auto [par_left, par_right] =
+      parallelOffsetsOver(layout, station.chainage_begin_m, station.chainage_end_m);
+  const double outermost = side > 0 ? par_left : par_right;
+  const auto [x0, x1] =
+      clearStretch(layout, station.chainage_begin_m, station.chainage_end_m, side, outermost);
+  if (x1 - x0 < kShortestPlatform_m)
+    return std::nullopt;
+  const double edge = outermost + side * A.platform_edge_m;
+  return PlatformSpan{x0, x1, edge, edge + side * A.platform_width_m};
+}
+
+BridgeDeck bridgeDeck(const track::Layout& layout, const AssetParams& A,
+                      const terrain::Structure& bridge) {
+  const auto [left, right] = outermostOver(layout, bridge.chainage_begin_m, bridge.chainage_end_m);
+  // 3 m beyond the outermost tracks, or wide enough to carry the catenary's masts.
+  const double half = A.catenary ? std::max(3.0, A.mast_offset_m + 0.5) : 3.0;
+  return {right - half, left + half};
+}
+
 void addStructures(TileContext& ctx) {
   const AssetParams& A = ctx.env.params().assets;
   const terrain::TerrainParams& T = ctx.env.params().terrain;
@@ -65,33 +90,23 @@ void addStructures(TileContext& ctx) {
     const auto runs = ownedRuns(ctx, 0, s.chainage_begin_m, s.chainage_end_m);
     if (runs.empty())
       continue;
-    const auto [left, right] = outermostOver(layout, s.chainage_begin_m, s.chainage_end_m);
     auto mesh = std::make_shared<scene::Mesh>();
     int kind = kTunnel;
     if (s.type == track::BlockType::kStation) {
-      // Side platforms beyond the outermost track on each side where the tracks run parallel,
-      // level with platform_height_m above the top of rail, their fronts down to the formation.
-      // An auxiliary track's leg turning in within the station would stand in the platform: the
-      // platform keeps to the longest stretch clear of it (standing beyond the leg instead put
-      // it metres from every track).
-      // Each platform is an object of its own (an instance each for panoptic labels).
-      const auto [par_left, par_right] =
-          parallelOffsetsOver(layout, s.chainage_begin_m, s.chainage_end_m);
+      // Side platforms (platformSpan()) level with platform_height_m above the top of rail,
+      // their fronts down to the formation. Each platform is an object of its own (an instance
+      // each for panoptic labels).
       for (const int side : {1, -1}) {
         auto platform = std::make_shared<scene::Mesh>();
         platform->beginPart(scene::cls::kPlatform, scene::mat::kConcrete);
-        const double outermost = side > 0 ? par_left : par_right;
-        const auto [x0, x1] =
-            clearStretch(layout, s.chainage_begin_m, s.chainage_end_m, side, outermost);
-        const double edge = outermost + side * A.platform_edge_m;
-        const double back = edge + side * A.platform_width_m;
-        std::vector<Eigen::Vector2d> box = {{edge, -formation},
-                                            {edge, A.platform_height_m},
-                                            {back, A.platform_height_m},
-                                            {back, -formation}};
-        if (x1 - x0 >= kShortestPlatform_m)
-          for (const auto& run : ownedRuns(ctx, 0, x0, x1))
+        if (const std::optional<PlatformSpan> p = platformSpan(layout, A, s, side)) {
+          const std::vector<Eigen::Vector2d> box = {{p->edge, -formation},
+                                                    {p->edge, A.platform_height_m},
+                                                    {p->back, A.platform_height_m},
+                                                    {p->back, -formation}};
+          for (const auto& run : ownedRuns(ctx, 0, p->x0, p->x1))
             extrude(*platform, ctx, run, box, true);
+        }
         if (!platform->triangles.empty())
           ctx.tile.objects.push_back(scene::Object::place(
               platform, ctx.origin, Eigen::Matrix3f::Identity(),
@@ -164,15 +179,14 @@ void addStructures(TileContext& ctx) {
       // Deck under the ballast of all tracks, parapets on both edges, piers down to the valley.
       kind = kBridge;
       mesh->beginPart(scene::cls::kBridge, scene::mat::kConcrete);
-      // 3 m beyond the outermost tracks, or wide enough to carry the catenary's masts.
-      const double half = A.catenary ? std::max(3.0, A.mast_offset_m + 0.5) : 3.0;
-      const double l = left + half, rr = right - half, deck = 1.5;
+      const BridgeDeck d = bridgeDeck(layout, A, s);
+      const double l = d.left, rr = d.right, deck = 1.5;
       const std::vector<Eigen::Vector2d> slab = {
           {l, -formation - deck}, {l, -formation}, {rr, -formation}, {rr, -formation - deck}};
       const std::vector<Eigen::Vector2d> parapet_l = {
-          {l, -formation}, {l, 1.0}, {l - 0.3, 1.0}, {l - 0.3, -formation}};
+          {l, -formation}, {l, 1.0}, {l - kParapet_m, 1.0}, {l - kParapet_m, -formation}};
       const std::vector<Eigen::Vector2d> parapet_r = {
-          {rr + 0.3, -formation}, {rr + 0.3, 1.0}, {rr, 1.0}, {rr, -formation}};
+          {rr + kParapet_m, -formation}, {rr + kParapet_m, 1.0}, {rr, 1.0}, {rr, -formation}};
       for (const auto& run : runs) {
         extrude(*mesh, ctx, run, slab, true);
         extrude(*mesh, ctx, run, parapet_l, true);
@@ -333,8 +347,8 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
     return std::nullopt;
   const track::TrackFrame f = railway_->frame(o.track, o.chainage_m);
   const Eigen::Vector3d over = f.position + o.offset_m * f.left;
-  // On the highest track bed under it (in that track's canted axes); beyond every bed on the
-  // terrain, or in a tunnel, where the terrain is the hill above, on the formation.
+  // On the highest track bed or structure under it (a bed in its track's canted axes); beyond
+  // them on the terrain, or in a tunnel, where the terrain is the hill above, on the formation.
   PlacedObstacle out;
   out.instance =
       scene::trackAssetInstance(o.track, detail::kObstacle, static_cast<std::int64_t>(i));
@@ -351,6 +365,34 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
       const Eigen::Vector3d surface = g.position + y * g.left + *h * g.up;
       if (!on_bed || surface.z() > on_bed->z())
         on_bed = surface;
+    }
+  }
+  // Or on a structure's top: a station's platform, a bridge's deck or parapet (in the main
+  // track's axes, as they are built).
+  const track::TrackFrame main = o.track == 0 ? f : railway_->frame(0, o.chainage_m);
+  const double y = (over - main.position).dot(main.left);
+  const auto onStructure = [&](double height) {
+    const Eigen::Vector3d surface = main.position + y * main.left + height * main.up;
+    if (!on_bed || surface.z() > on_bed->z())
+      on_bed = surface;
+  };
+  for (const terrain::Structure& s : railway_->structures()) {
+    if (!(o.chainage_m >= s.chainage_begin_m && o.chainage_m <= s.chainage_end_m))
+      continue;
+    if (s.type == track::BlockType::kStation) {
+      for (const int side : {1, -1}) {
+        const std::optional<detail::PlatformSpan> p =
+            detail::platformSpan(railway_->layout(), params_.assets, s, side);
+        if (p && o.chainage_m >= p->x0 && o.chainage_m <= p->x1 &&
+            y >= std::min(p->edge, p->back) && y <= std::max(p->edge, p->back))
+          onStructure(params_.assets.platform_height_m);
+      }
+    } else if (s.type == track::BlockType::kBridge) {
+      const detail::BridgeDeck d = detail::bridgeDeck(railway_->layout(), params_.assets, s);
+      if (y >= d.right && y <= d.left) {
+        const bool parapet = y < d.right + detail::kParapet_m || y > d.left - detail::kParapet_m;
+        onStructure(parapet ? 1.0 : -bed.formation);
+      }
     }
   }
   const bool tunnel = std::ranges::any_of(railway_->route().blocks, [&](const track::Block& b) {

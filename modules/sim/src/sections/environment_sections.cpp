@@ -183,8 +183,8 @@ const Binding<environment::Obstacle>& obstacleBinding() {
         .range(0, 1e7);
     b.number("offset_m", &Ob::offset_m, kM,
              "From the track's centre, + left: it stands on the highest surface there (a track's "
-             "sleepers, its ballast bed's top or shoulder, the terrain; in a tunnel the "
-             "formation)")
+             "sleepers, its ballast bed's top or shoulder, a station's platform, a bridge's deck "
+             "or parapet, the terrain; in a tunnel the formation)")
         .range(-50, 50);
     b.number("heading_deg", &Ob::heading_rad, units::kDegree,
              "Which way it faces, counter-clockwise from the track's direction (90: across it, "
