@@ -19,6 +19,12 @@ inline double ms(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+/// The q-quantile (0 ... 1) of `v`, by rank: the value with a share q of the others below it.
+inline double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
 /// The median of repeated timings.
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
