@@ -198,5 +198,66 @@ TEST(BeamOrigins, RaysStartWhereTheBeamsLeaveTheHeadFarOut) {
   }
 }
 
+TEST(BeamOrigins, TheVehicleCutsEachBeamFromWhereItLeavesTheHead) {
+  // The HDL-64E 5 cm above a train's roof on its front edge, over flat ground: its beams leave
+  // the head 0.14-0.22 m higher still, so a beam is hidden when the ray from its own origin
+  // crosses the roof's plane within the roof's rectangle (written here, not the scanner's slab
+  // test), and every other beam reaching the ground returns it at the range from its origin.
+  const Eigen::Vector3d O(3.0e5, -2.0e5, 0.0);
+  const double height = 3.85, roof = 3.8, front = 10.0, length = 24.0, half_width = 1.45;
+  const auto tile = test::makeTile(O, {test::square({0, 0, -height}, {0, 0, 1}, 400.0,
+                                                    scene::cls::kTerrain, scene::mat::kGrass)});
+  lidar::RayWorld world;
+  const auto scene = world.scene({tile});
+  lidar::LidarParams p;
+  p.pattern = lidar::preset("hdl64", 10.0, 1001);
+  p.range_sigma_m = 0.0;
+  p.motion_distortion = false;
+  lidar::LidarParams::Vehicle v;
+  v.box = Eigen::AlignedBox3d(Eigen::Vector3d(front - length, -half_width, 0.0),
+                              Eigen::Vector3d(front, half_width, roof));
+  v.sensor_pose.translation() = Eigen::Vector3d(front, 0.0, height);
+  p.vehicle = v;
+  const lidar::Scanner scanner(p);
+  // A beam leaving the head above the roof enters the body through the roof, or, from a head
+  // a little ahead of the roof's front edge (the offsets put some beams' origins there), through
+  // the front face below it.
+  const auto hidden = [&](const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    if (d.z() >= 0.0)
+      return false;
+    const Eigen::Vector3d at(front + o.x(), o.y(), height + o.z());  // the origin on the vehicle
+    const double t = (at.z() - roof) / -d.z();
+    const double x = at.x() + t * d.x(), y = at.y() + t * d.y();
+    if (x >= front - length && x <= front && std::abs(y) <= half_width)
+      return true;
+    if (at.x() <= front || d.x() >= 0.0)
+      return false;
+    const double s = (front - at.x()) / d.x();  // where it crosses the front face's plane
+    const double z = at.z() + s * d.z(), w = at.y() + s * d.y();
+    return z >= 0.0 && z <= roof && std::abs(w) <= half_width;
+  };
+  std::size_t expected = 0, hidden_by_origin = 0;
+  for (int c = 0; c < 1001; ++c)
+    for (int l = 0; l < 64; ++l) {
+      const Eigen::Vector3d o = scanner.origin(c, l), d = scanner.direction(c, l);
+      const double range = (-height - o.z()) / d.z();
+      const bool ground =
+          d.z() < 0.0 && range >= p.pattern.range_min_m && range <= p.pattern.range_max_m;
+      expected += ground && !hidden(o, d);
+      // Beams the roof would hide from the sensor's origin but not from their own.
+      hidden_by_origin += ground && !hidden(o, d) && hidden(Eigen::Vector3d::Zero(), d);
+    }
+  const auto frame = scanner.scan(scene, test::fixedPose(O), RandomStream(1, "x"), 0);
+  EXPECT_EQ(frame.points.size(), expected);
+  EXPECT_GT(hidden_by_origin, 100u) << "the beams' height matters here";
+  const std::vector<int> ring_laser = p.pattern.ringLasers();
+  for (const auto& pt : frame.points) {
+    const int l = ring_laser[pt.ring];
+    const Eigen::Vector3d o = scanner.origin(pt.column, l), d = scanner.direction(pt.column, l);
+    ASSERT_FALSE(hidden(o, d)) << pt.xyz.transpose();
+    EXPECT_NEAR(pt.range_m, (-height - o.z()) / d.z(), 1e-3);
+  }
+}
+
 }  // namespace
 }  // namespace trainsim
