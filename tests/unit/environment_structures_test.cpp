@@ -666,5 +666,69 @@ TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
   EXPECT_GT(on_deck.z() - w.env().terrain().heightAt(on_deck.x(), on_deck.y()), 3.0);
 }
 
+TEST(Obstacles, InATunnelOnlyWithinItsBore) {
+  // The default route's first tunnel: the bore's walls found in the scene's own lining (its
+  // vertices below 1 m above the rails across the tunnel's middle), and persons facing across
+  // the track (their footprint ±0.12 m across it) 0.2 m inside and outside them. One outside
+  // would stand in the rock of the hill: left out, saying why. And the route's end chainage is
+  // on the route, though the layout's sum of lengths may fall a hair short of it.
+  const World& w = defaultWorld();
+  const terrain::TerrainParams& terrain = w.env().params().terrain;
+  const std::vector<track::Block>& blocks = w.railway().route().blocks;
+  const auto tunnel = std::ranges::find_if(
+      blocks, [](const track::Block& b) { return b.type == track::BlockType::kTunnel; });
+  ASSERT_NE(tunnel, blocks.end());
+  const double x = 0.5 * (tunnel->chainage_begin_m + tunnel->chainage_end_m);
+  const track::TrackFrame f = w.railway().frame(0, x);
+  double left = -1e300, right = 1e300;
+  for (const auto& tile : tilesAround(w, f.position.head<2>()))
+    for (const scene::Object& o : tile->objects)
+      for (const scene::MeshPart& part : o.mesh->parts) {
+        if (part.cls != scene::cls::kTunnel)
+          continue;
+        for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count;
+             ++t)
+          for (const std::uint32_t v : o.mesh->triangles[t]) {
+            const Eigen::Vector3d p = o.worldVertex(v) - f.position;
+            if (std::abs(p.dot(f.tangent)) < 5.0 && p.dot(f.up) < 1.0) {
+              left = std::max(left, p.dot(f.left));
+              right = std::min(right, p.dot(f.left));
+            }
+          }
+      }
+  ASSERT_GT(left, 2.0);
+  ASSERT_LT(right, -2.0);
+  const auto person = [&](double offset) {
+    environment::Obstacle o;
+    o.chainage_m = x;
+    o.offset_m = offset;
+    return o;
+  };
+  const auto leftOut = [&](const environment::Obstacle& o) {
+    return environment::obstacleLeftOut(w.railway().layout(), blocks, terrain, o);
+  };
+  EXPECT_FALSE(leftOut(person(left - 0.32))) << left;
+  EXPECT_FALSE(leftOut(person(right + 0.32))) << right;
+  for (const double offset : {left - 0.08, left + 5.0, right + 0.08}) {
+    const auto why = leftOut(person(offset));
+    ASSERT_TRUE(why) << offset;
+    EXPECT_NE(why->find("it would stand in the rock"), std::string::npos) << *why;
+  }
+  // A car along the track fits where one across it does not (4.4 m long, 1.8 m wide).
+  environment::Obstacle car = person(left - 1.2);
+  car.kind = environment::ObstacleKind::kCar;
+  car.heading_rad = 0.0;
+  EXPECT_FALSE(leftOut(car));
+  car.heading_rad = std::numbers::pi / 2;
+  EXPECT_TRUE(leftOut(car));
+  // As far out before the tunnel, in the open, and at the route's end.
+  environment::Obstacle open = person(left + 5.0);
+  open.chainage_m = tunnel->chainage_begin_m - 30.0;
+  EXPECT_FALSE(leftOut(open));
+  environment::Obstacle end = person(3.0);
+  end.chainage_m = std::round(w.railway().layout().tracks[0].main_chainage_end_m);
+  EXPECT_FALSE(leftOut(end)) << end.chainage_m;
+}
+
 }  // namespace
 }  // namespace trainsim

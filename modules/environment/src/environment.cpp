@@ -1,5 +1,6 @@
 #include "trainsim/environment/environment.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -21,11 +22,52 @@ std::optional<std::string> obstacleOffTheLayout(const track::Layout& layout, con
         "main track)",
         o.track, layout.tracks.size());
   const track::LayoutTrack& t = layout.tracks[static_cast<std::size_t>(o.track)];
-  if (!(o.chainage_m >= t.main_chainage_begin_m && o.chainage_m <= t.main_chainage_end_m))
+  constexpr double kSlack_m = 1e-6;  // a route's end chainage is a sum of its pieces' lengths
+  if (!(o.chainage_m >= t.main_chainage_begin_m - kSlack_m &&
+        o.chainage_m <= t.main_chainage_end_m + kSlack_m))
     return fmt::format(
         "{:g} m is not on track {}, which runs from main chainage {:.1f} to {:.1f} m", o.chainage_m,
         o.track, t.main_chainage_begin_m, t.main_chainage_end_m);
   return std::nullopt;
+}
+
+std::optional<std::string> obstacleLeftOut(const track::Layout& layout,
+                                           const std::vector<track::Block>& blocks,
+                                           const terrain::TerrainParams& terrain,
+                                           const Obstacle& o) {
+  if (auto why = obstacleOffTheLayout(layout, o))
+    return why;
+  const auto tunnel = std::ranges::find_if(blocks, [&](const track::Block& b) {
+    return b.type == track::BlockType::kTunnel && o.chainage_m >= b.chainage_begin_m &&
+           o.chainage_m <= b.chainage_end_m;
+  });
+  if (tunnel == blocks.end())
+    return std::nullopt;
+  // The footprint's corners across the main track (the tracks run parallel enough in a tunnel
+  // for the heading to be taken from the main track's direction), against the bore's walls.
+  const double centre =
+      detail::trackOffset(layout.tracks[static_cast<std::size_t>(o.track)], o.chainage_m)
+          .value_or(0.0) +
+      o.offset_m;
+  const detail::TunnelTube tube =
+      detail::tunnelTube(layout, terrain, tunnel->chainage_begin_m, tunnel->chainage_end_m);
+  const Eigen::AlignedBox2d footprint = obstacleFootprint(o.kind);
+  double lo = centre, hi = centre;
+  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
+    const Eigen::Vector2d c = footprint.corner(corner);
+    const double y = centre + c.x() * std::sin(o.heading_rad) + c.y() * std::cos(o.heading_rad);
+    lo = std::min(lo, y);
+    hi = std::max(hi, y);
+  }
+  if (lo >= tube.centre - tube.r && hi <= tube.centre + tube.r)
+    return std::nullopt;
+  return fmt::format(
+      "in the tunnel from main chainage {:.1f} to {:.1f} m its footprint reaches {:.2f} … {:.2f} "
+      "m from the main track's centre, beyond the bore's walls ({:.2f} … {:.2f} m): it would "
+      "stand in the rock",
+      tunnel->chainage_begin_m, tunnel->chainage_end_m, lo, hi, tube.centre - tube.r,
+      tube.centre + tube.r);
 }
 
 Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind) {

@@ -342,9 +342,12 @@ void addObstacles(TileContext& ctx) {
 namespace trainsim::environment {
 
 std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
-  const Obstacle& o = params_.objects.obstacles.at(i);
-  if (obstacleOffTheLayout(railway_->layout(), o))
+  if (obstacleLeftOut(railway_->layout(), railway_->route().blocks, params_.terrain,
+                      params_.objects.obstacles.at(i)))
     return std::nullopt;
+  Obstacle o = params_.objects.obstacles.at(i);
+  const track::LayoutTrack& on = railway_->layout().tracks[static_cast<std::size_t>(o.track)];
+  o.chainage_m = std::clamp(o.chainage_m, on.main_chainage_begin_m, on.main_chainage_end_m);
   const track::TrackFrame f = railway_->frame(o.track, o.chainage_m);
   const Eigen::Vector3d over = f.position + o.offset_m * f.left;
   // On the highest track bed or structure under it (a bed in its track's canted axes); beyond

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 
 #include "trainsim/core/enum_names.hpp"
@@ -12,6 +13,7 @@
 namespace trainsim::sim::detail {
 
 std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track::Layout& layout,
+                                         const terrain::TerrainParams& terrain,
                                          const std::vector<environment::Obstacle>& obstacles,
                                          const TrainConfig& train, double u_start) {
   const double half_width = 0.5 * train.body.width_m;
@@ -22,9 +24,11 @@ std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track:
   };
   std::optional<ObstacleStop> first;
   for (std::size_t i = 0; i < obstacles.size(); ++i) {
-    const environment::Obstacle& o = obstacles[i];
-    if (environment::obstacleOffTheLayout(layout, o))
+    if (environment::obstacleLeftOut(layout, route.blocks, terrain, obstacles[i]))
       continue;  // left out of the scene
+    environment::Obstacle o = obstacles[i];
+    const track::LayoutTrack& on = layout.tracks[static_cast<std::size_t>(o.track)];
+    o.chainage_m = std::clamp(o.chainage_m, on.main_chainage_begin_m, on.main_chainage_end_m);
     // Its footprint's corners in plan, on whichever track it is given, then in the main track's
     // axes at its chainage (x along the main track, y to its left): one given on the double
     // track may stand across the main track.

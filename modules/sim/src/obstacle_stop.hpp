@@ -21,9 +21,11 @@ struct ObstacleStop {
 /// The stop obstacle_margin_m short of the nearest obstacle in the train's way (the front pivot
 /// at distance `u_start` at the start): one whose footprint, turned by its heading, reaches
 /// within half the body's width of the main track's centre, on whichever layout track it is
-/// given. Throws ConfigError naming an obstacle in the way under the train where it starts, or
-/// too near ahead for it to stop short of.
+/// given (those the scene leaves out, environment::obstacleLeftOut(), are passed over). Throws
+/// ConfigError naming an obstacle in the way under the train where it starts, or too near ahead
+/// for it to stop short of.
 std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track::Layout& layout,
+                                         const terrain::TerrainParams& terrain,
                                          const std::vector<environment::Obstacle>& obstacles,
                                          const TrainConfig& train, double u_start);
 

@@ -122,7 +122,7 @@ const std::vector<PipelineStage>& stageTable() {
         {"layout", "double and auxiliary tracks", {seed, layoutSection().key}, true},
         {"motion",
          "speed profile and trajectory",
-         {trainSection().key, trajectorySection().key, objectsSection().key},
+         {trainSection().key, trajectorySection().key, objectsSection().key, terrainSection().key},
          true},
         {"terrain",
          "terrain, objects and track assets",
@@ -221,7 +221,8 @@ std::shared_ptr<const MotionStage> buildMotion(const scenario::Scenario& sc,
   double u_stop = u_end;
   if (train.stop_for_obstacles && !clock.static_only) {
     const auto obstacles = objectsSection().read(sc.json()).obstacles;
-    if (const auto stop = detail::obstacleStop(r, layout, obstacles, train, u_start);
+    if (const auto stop = detail::obstacleStop(r, layout, terrainSection().read(sc.json()),
+                                               obstacles, train, u_start);
         stop && stop->u_m < u_end) {
       u_stop = stop->u_m;
       const environment::Obstacle& o = obstacles[stop->index];
@@ -290,11 +291,13 @@ Plan Planner::plan(const scenario::Scenario& sc) {
     motion_ = buildMotion(sc, route_, layout_->layout, motion_key);
     ++motion_builds_;
   }
-  // Obstacles stand on the layout's tracks: one that cannot is left out, said here (validate
-  // says so too).
+  // Obstacles stand on the layout's tracks, clear of a tunnel's rock: one that cannot is left
+  // out, said here (validate says so too).
   const auto obstacles = objectsSection().read(sc.json()).obstacles;
+  const terrain::TerrainParams terrain = terrainSection().read(sc.json());
   for (std::size_t i = 0; i < obstacles.size(); ++i)
-    if (const auto why = environment::obstacleOffTheLayout(layout_->layout, obstacles[i]))
+    if (const auto why = environment::obstacleLeftOut(layout_->layout, route_->route.route.blocks,
+                                                      terrain, obstacles[i]))
       logWarn(fmt::format("objects.obstacles[{}] left out: {}", i, *why));
   Plan plan(route_, layout_, motion_);
   const track::Route& route = plan.route().route;

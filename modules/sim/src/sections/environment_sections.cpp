@@ -212,8 +212,10 @@ const scenario::Section<environment::ObjectParams>& objectsSection() {
     b.array("obstacles", &O::obstacles, obstacleBinding(), "One obstacle.",
             "Obstacles placed by hand on or beside the tracks, the positives of obstacle "
             "detection: each an object of its own (instances.csv gives its track). One on a "
-            "track the layout does not have, or off its track's stretch, is left out with a "
-            "warning")
+            "track the layout does not have, off its track's stretch, or in a tunnel reaching "
+            "beyond its bore's walls into the rock, is left out with a warning (validate and "
+            "every run say which and why): a layout is drawn per seed, and one list should "
+            "serve every seed's")
         .maxItems(10000);
     return s;
   }();

@@ -119,10 +119,17 @@ struct PlacedObstacle {
 Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind);
 
 /// Why an obstacle cannot stand where it is put: on a track the layout does not have, or at a
-/// main chainage its track does not cover; nothing if it can. Such an obstacle is left out of
-/// the scene (the plan warns): a layout is drawn per seed, and a list of obstacles should serve
-/// every seed's (and a shortened route's) as far as it can.
+/// main chainage its track does not cover (to a micrometre: the route's end is on it); nothing
+/// if it can. Such an obstacle is left out of the scene (the plan warns): a layout is drawn per
+/// seed, and a list of obstacles should serve every seed's (and a shortened route's) as far as
+/// it can.
 std::optional<std::string> obstacleOffTheLayout(const track::Layout& layout, const Obstacle& o);
+/// The same, and also in a tunnel with its footprint beyond the bore's walls (in the rock of
+/// the hill, or of the portal): what obstacleOffTheLayout() says, or why it stands in rock.
+std::optional<std::string> obstacleLeftOut(const track::Layout& layout,
+                                           const std::vector<track::Block>& blocks,
+                                           const terrain::TerrainParams& terrain,
+                                           const Obstacle& o);
 
 struct EnvironmentParams {
   terrain::TerrainParams terrain;
