@@ -637,7 +637,11 @@ TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
                    {{"chainage_m", 1400.0}, {"offset_m", -2.0}},
                    {{"chainage_m", 1450.0}, {"offset_m", 3.5}},
                    {{"chainage_m", platform.first}, {"offset_m", platform.second}},
-                   {{"chainage_m", deck.first}, {"offset_m", deck.second}}});
+                   {{"chainage_m", deck.first}, {"offset_m", deck.second}},
+                   {{"kind", "car"},
+                    {"chainage_m", deck.first + 10.0},
+                    {"offset_m", deck.second},
+                    {"heading_deg", 0.0}}});
   const World w = makeWorld(patch);
   for (std::size_t i = 0; i < 6; ++i) {
     const std::optional<environment::PlacedObstacle>& p = w.env().obstacle(i);
@@ -664,6 +668,17 @@ TEST(Obstacles, StandOnTheSurfaceTheSensorsSeeUnderThem) {
               w.railway().frame(0, platform.first).position.z() + A.platform_height_m, 0.05);
   const Eigen::Vector3d on_deck = w.env().obstacle(5)->foot;
   EXPECT_GT(on_deck.z() - w.env().terrain().heightAt(on_deck.x(), on_deck.y()), 3.0);
+  // Level under their whole footprint but the two on the beds' slopes (the person's 0.24 m
+  // across them) and the car on the deck, whose 1.8 m width reaches the ballast bed on one side
+  // and past the deck's edge on the other: said in above_m and below_m (and warned of).
+  for (const std::size_t i : {0u, 4u, 5u}) {
+    EXPECT_LT(w.env().obstacle(i)->above_m, 0.02) << i;
+    EXPECT_GT(w.env().obstacle(i)->below_m, -0.02) << i;
+  }
+  for (const std::size_t i : {1u, 2u})
+    EXPECT_LT(w.env().obstacle(i)->above_m - w.env().obstacle(i)->below_m, 0.2) << i;
+  EXPECT_GT(w.env().obstacle(6)->above_m, 0.2);
+  EXPECT_LT(w.env().obstacle(6)->below_m, -3.0);
 }
 
 TEST(Obstacles, InATunnelOnlyWithinItsBore) {

@@ -1,10 +1,13 @@
 // Platforms, tunnels, bridges, fences and signals along the main track; obstacles placed by
 // hand.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "assets.hpp"
+#include "trainsim/core/log.hpp"
 #include "trainsim/core/random.hpp"
 
 namespace trainsim::environment::detail {
@@ -348,21 +351,48 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
   Obstacle o = params_.objects.obstacles.at(i);
   const track::LayoutTrack& on = railway_->layout().tracks[static_cast<std::size_t>(o.track)];
   o.chainage_m = std::clamp(o.chainage_m, on.main_chainage_begin_m, on.main_chainage_end_m);
-  const track::TrackFrame f = railway_->frame(o.track, o.chainage_m);
-  const Eigen::Vector3d over = f.position + o.offset_m * f.left;
-  // On the highest track bed or structure under it (a bed in its track's canted axes); beyond
-  // them on the terrain, or in a tunnel, where the terrain is the hill above, on the formation.
   PlacedObstacle out;
   out.instance =
       scene::trackAssetInstance(o.track, detail::kObstacle, static_cast<std::int64_t>(i));
-  out.along = f.tangent;
+  out.along = railway_->frame(o.track, o.chainage_m).tangent;
+  out.foot = surfaceUnder(o.track, o.chainage_m, o.offset_m);
+  // The surface under its footprint's corners (along its track and across it; a curve's
+  // bending over a few metres is left out).
+  const Eigen::AlignedBox2d footprint = obstacleFootprint(o.kind);
+  const double c = std::cos(o.heading_rad), s = std::sin(o.heading_rad);
+  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
+    const Eigen::Vector2d k = footprint.corner(corner);
+    const double x = std::clamp(o.chainage_m + k.x() * c - k.y() * s, on.main_chainage_begin_m,
+                                on.main_chainage_end_m);
+    const double dz =
+        surfaceUnder(o.track, x, o.offset_m + k.x() * s + k.y() * c).z() - out.foot.z();
+    out.above_m = std::max(out.above_m, dz);
+    out.below_m = std::min(out.below_m, dz);
+  }
+  constexpr double kUneven_m = 0.2;
+  if (out.above_m > kUneven_m || out.below_m < -kUneven_m)
+    logWarn(fmt::format(
+        "objects.obstacles[{}]: the surface under its footprint lies {:.2f} m above to {:.2f} m "
+        "below its foot (it stands across the edge of a ballast bed, a platform, a parapet or a "
+        "bridge's deck): parts of it sink into the step or overhang it; move it clear of the "
+        "edge",
+        i, out.above_m, -out.below_m));
+  return out;
+}
+
+Eigen::Vector3d Environment::surfaceUnder(int track, double chainage_m, double offset_m) const {
+  const track::TrackFrame f = railway_->frame(track, chainage_m);
+  const Eigen::Vector3d over = f.position + offset_m * f.left;
+  // On the highest track bed or structure under it (a bed in its track's canted axes); beyond
+  // them on the terrain, or in a tunnel, where the terrain is the hill above, on the formation.
   const detail::BallastSection bed =
       detail::ballastSection(params_.assets, params_.terrain.formation_depth_m);
   std::optional<Eigen::Vector3d> on_bed;
   for (const track::LayoutTrack& t : railway_->layout().tracks) {
-    if (!(o.chainage_m >= t.main_chainage_begin_m && o.chainage_m <= t.main_chainage_end_m))
+    if (!(chainage_m >= t.main_chainage_begin_m && chainage_m <= t.main_chainage_end_m))
       continue;
-    const track::TrackFrame g = t.id == o.track ? f : railway_->frame(t.id, o.chainage_m);
+    const track::TrackFrame g = t.id == track ? f : railway_->frame(t.id, chainage_m);
     const double y = (over - g.position).dot(g.left);
     if (const std::optional<double> h = bed.heightAt(y)) {
       const Eigen::Vector3d surface = g.position + y * g.left + *h * g.up;
@@ -372,7 +402,7 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
   }
   // Or on a structure's top: a station's platform, a bridge's deck or parapet (in the main
   // track's axes, as they are built).
-  const track::TrackFrame main = o.track == 0 ? f : railway_->frame(0, o.chainage_m);
+  const track::TrackFrame main = track == 0 ? f : railway_->frame(0, chainage_m);
   const double y = (over - main.position).dot(main.left);
   const auto onStructure = [&](double height) {
     const Eigen::Vector3d surface = main.position + y * main.left + height * main.up;
@@ -380,14 +410,14 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
       on_bed = surface;
   };
   for (const terrain::Structure& s : railway_->structures()) {
-    if (!(o.chainage_m >= s.chainage_begin_m && o.chainage_m <= s.chainage_end_m))
+    if (!(chainage_m >= s.chainage_begin_m && chainage_m <= s.chainage_end_m))
       continue;
     if (s.type == track::BlockType::kStation) {
       for (const int side : {1, -1}) {
         const std::optional<detail::PlatformSpan> p =
             detail::platformSpan(railway_->layout(), params_.assets, s, side);
-        if (p && o.chainage_m >= p->x0 && o.chainage_m <= p->x1 &&
-            y >= std::min(p->edge, p->back) && y <= std::max(p->edge, p->back))
+        if (p && chainage_m >= p->x0 && chainage_m <= p->x1 && y >= std::min(p->edge, p->back) &&
+            y <= std::max(p->edge, p->back))
           onStructure(params_.assets.platform_height_m);
       }
     } else if (s.type == track::BlockType::kBridge) {
@@ -398,17 +428,15 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
       }
     }
   }
-  const bool tunnel = std::ranges::any_of(railway_->route().blocks, [&](const track::Block& b) {
-    return b.type == track::BlockType::kTunnel && o.chainage_m >= b.chainage_begin_m &&
-           o.chainage_m <= b.chainage_end_m;
-  });
   if (on_bed)
-    out.foot = *on_bed;
-  else if (tunnel)
-    out.foot = over - bed.formation * f.up;
-  else
-    out.foot = {over.x(), over.y(), terrain_.heightAt(over.x(), over.y())};
-  return out;
+    return *on_bed;
+  const bool tunnel = std::ranges::any_of(railway_->route().blocks, [&](const track::Block& b) {
+    return b.type == track::BlockType::kTunnel && chainage_m >= b.chainage_begin_m &&
+           chainage_m <= b.chainage_end_m;
+  });
+  if (tunnel)
+    return over - bed.formation * f.up;
+  return {over.x(), over.y(), terrain_.heightAt(over.x(), over.y())};
 }
 
 }  // namespace trainsim::environment

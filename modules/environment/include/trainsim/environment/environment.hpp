@@ -112,6 +112,10 @@ struct PlacedObstacle {
   scene::InstanceId instance = 0;
   Eigen::Vector3d foot = Eigen::Vector3d::Zero();    ///< world
   Eigen::Vector3d along = Eigen::Vector3d::UnitX();  ///< its track's direction there (world)
+  /// How far the surface under its footprint's corners lies above (+) and below (−) the foot,
+  /// which is on the surface under its centre: an obstacle across a bed's, a platform's or a
+  /// parapet's edge sinks into it or overhangs the step (the environment warns past 0.2 m).
+  double above_m = 0.0, below_m = 0.0;
 };
 
 /// An obstacle kind's footprint: the plan view of its mesh's bounds in its own axes (x the way
@@ -222,6 +226,10 @@ class Environment {
 
  private:
   std::optional<PlacedObstacle> placeObstacle(std::size_t i) const;
+  /// The highest surface an obstacle can stand on over the point `offset_m` left of track
+  /// `track` at main chainage `chainage_m`: a track bed's, a platform's, a bridge deck's or
+  /// parapet's, the terrain, or in a tunnel the formation.
+  Eigen::Vector3d surfaceUnder(int track, double chainage_m, double offset_m) const;
 
   std::shared_ptr<const terrain::Railway> railway_;
   EnvironmentParams params_;
