@@ -1,6 +1,6 @@
-// The LiDAR section's problems, each named at its field: a mount inside the train's body, range
-// limits that leave no range, more columns than the device fires, spin rates and modes the
-// device does not run.
+// The LiDAR section's problems, each named at its field: a mount whose beams leave the head
+// inside the train's body, range limits that leave no range, more columns than the device
+// fires, spin rates and modes the device does not run.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -27,6 +27,17 @@ TEST(LidarConfig, ALidarInsideTheTrainsBodyIsAProblemNamingItsMount) {
   EXPECT_NE(problems[0].message.find("train.body"), std::string::npos);
   input["train"]["body"]["enabled"] = false;  // or with no body to be inside
   EXPECT_TRUE(scenarioSchema().resolve(input).problems.empty());
+  // Its housing standing on the roof: the HDL-64E's origin is on it and its beams leave the
+  // head 0.14 m and more above it; a VLP-16's +15° laser leaves it 11 mm below its origin, and
+  // the uniform pattern's all at it, on the roof, which the body's box holds.
+  input["train"]["body"]["enabled"] = true;
+  input["sensors"]["lidars"][0]["mount"]["z_m"] = 3.8;
+  for (const auto& [model, inside] :
+       {std::pair{"hdl64", false}, std::pair{"vlp16", true}, std::pair{"uniform", true}}) {
+    input["sensors"]["lidars"][0]["model"] = model;
+    input["sensors"]["lidars"][0]["columns"] = model == std::string("hdl64") ? 1000 : 900;
+    EXPECT_EQ(scenarioSchema().resolve(input).problems.size(), inside ? 1u : 0u) << model;
+  }
 }
 
 TEST(LidarConfig, LimitsThatLeaveNoRangeOrOverlapFiringsAreProblemsNamingTheField) {

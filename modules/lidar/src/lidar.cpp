@@ -71,6 +71,33 @@ struct Scanner::Block {
   std::vector<Echo> echoes;
 };
 
+Eigen::Vector3d beamOrigin(const ScanPattern& pattern, int laser, double azimuth_deg,
+                           double head_deg) {
+  const Laser& l = pattern.lasers[static_cast<std::size_t>(laser)];
+  const double a = azimuth_deg * kRadPerDeg, head = head_deg * kRadPerDeg;
+  const double e = l.elevation_deg * kRadPerDeg;
+  return l.vertical_offset_m *
+             Eigen::Vector3d(-std::sin(e) * std::cos(a), -std::sin(e) * std::sin(a), std::cos(e)) +
+         l.horizontal_offset_m * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0) +
+         pattern.beam_origin_radius_m * Eigen::Vector3d(std::cos(head), std::sin(head), 0.0) +
+         pattern.beam_origin_height_m * Eigen::Vector3d::UnitZ();
+}
+
+bool beamsLeaveOutside(const ScanPattern& pattern, const Eigen::Isometry3d& pose,
+                       const Eigen::AlignedBox3d& box) {
+  if (!pattern.offsetBeams())
+    return !box.contains(pose.translation());
+  for (std::size_t l = 0; l < pattern.lasers.size(); ++l)
+    for (int k = 0; k < 72; ++k) {
+      const double head = 5.0 * k;
+      const Eigen::Vector3d o = beamOrigin(pattern, static_cast<int>(l),
+                                           head + pattern.lasers[l].azimuth_offset_deg, head);
+      if (box.contains(pose * o))
+        return false;
+    }
+  return true;
+}
+
 Scanner::~Scanner() = default;
 
 std::string_view Scanner::vectorIsa() {
@@ -121,21 +148,13 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
       const double e = p.lasers[l].elevation_deg * kRadPerDeg;
       directions_[l * W + c] =
           Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      if (!offset)
-        continue;
-      // Laser::vertical_offset_m, horizontal_offset_m and the pattern's beam origin radius
-      // (towards where the head points) and height.
-      const double head = p.headAzimuthDeg(static_cast<int>(c), static_cast<int>(l)) * kRadPerDeg;
-      const Laser& laser = p.lasers[l];
-      origins_[l * W + c] =
-          laser.vertical_offset_m *
-              Eigen::Vector3d(-std::sin(e) * std::cos(a), -std::sin(e) * std::sin(a), std::cos(e)) +
-          laser.horizontal_offset_m * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0) +
-          p.beam_origin_radius_m * Eigen::Vector3d(std::cos(head), std::sin(head), 0.0) +
-          p.beam_origin_height_m * Eigen::Vector3d::UnitZ();
+      if (offset)
+        origins_[l * W + c] = beamOrigin(
+            p, static_cast<int>(l), p.azimuthDeg(static_cast<int>(c), static_cast<int>(l)),
+            p.headAzimuthDeg(static_cast<int>(c), static_cast<int>(l)));
     }
-  if (params_.vehicle && params_.vehicle->box.contains(params_.vehicle->sensor_pose.translation()))
-    throw ConfigError("LiDAR: the sensor is inside its vehicle's body");
+  if (params_.vehicle && !beamsLeaveOutside(p, params_.vehicle->sensor_pose, params_.vehicle->box))
+    throw ConfigError("LiDAR: its beams leave the head inside its vehicle's body");
   axes_.reserve(directions_.size());
   for (const Eigen::Vector3d& d : directions_)
     axes_.push_back(d.cast<float>());

@@ -348,24 +348,27 @@ Eigen::Isometry3d poseOnBody(const Mount& mount, const TrainConfig& train) {
   T.translation() += train.reference_point;
   return T;
 }
-// Why a LiDAR at `pose` (poseOnBody) cannot be: empty unless it is inside the body.
-std::string insideTheBody(const Eigen::Isometry3d& pose, const TrainConfig& train) {
-  if (!train.body.enabled || !train.body.box().contains(pose.translation()))
+// Why a LiDAR of `pattern` at `pose` (poseOnBody) cannot be: empty unless a beam leaves its
+// head inside the body (its origin may stand on the roof: a preset's beams leave the head above
+// it).
+std::string insideTheBody(const Eigen::Isometry3d& pose, const lidar::ScanPattern& pattern,
+                          const TrainConfig& train) {
+  if (!train.body.enabled || lidar::beamsLeaveOutside(pattern, pose, train.body.box()))
     return {};
-  return "the LiDAR is inside the train's body (train.body): mount it above train.body.roof_m "
-         "or ahead of train.body.front_x_m, or set train.body.enabled false";
+  return "the LiDAR's beams leave its head inside the train's body (train.body): mount it above "
+         "train.body.roof_m or ahead of train.body.front_x_m, or set train.body.enabled false";
 }
 
 lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
                                  const std::string& path) {
   lidar::LidarParams p;
+  p.pattern = devicePattern(c);
   if (train.body.enabled) {
     const Eigen::Isometry3d pose = poseOnBody(c.basics.mount.mount(), train);
-    if (const std::string why = insideTheBody(pose, train); !why.empty())
+    if (const std::string why = insideTheBody(pose, p.pattern, train); !why.empty())
       throw ConfigError(fmt::format("{}: {}", mountPath(path), why));
     p.vehicle = lidar::LidarParams::Vehicle{train.body.box(), pose};
   }
-  p.pattern = devicePattern(c);
   if (c.range_min_m > 0.0)
     p.pattern.range_min_m = c.range_min_m;
   if (c.range_max_m > 0.0)
@@ -666,7 +669,8 @@ void checkLidar(const scenario::Json& item, const std::string& path,
 
 void checkLidarClearOfTheBody(const scenario::Json& item, const TrainConfig& train,
                               const std::string& path, std::vector<scenario::Problem>& problems) {
-  if (const std::string why = insideTheBody(poseOnBody(readMount(item), train), train);
+  if (const std::string why = insideTheBody(poseOnBody(readMount(item), train),
+                                            devicePattern(lidarBinding().read(item)), train);
       !why.empty())
     problems.push_back({mountPath(path), why});
 }

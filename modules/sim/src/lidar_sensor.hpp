@@ -14,7 +14,8 @@ scenario::Param declareLidar();
 std::unique_ptr<Sensor> createLidar(const SensorSetup& setup);
 void checkLidar(const scenario::Json& item, const std::string& path,
                 std::vector<scenario::Problem>& problems);
-/// Checks that the LiDAR item at `path` is not mounted inside the train's body (train.body).
+/// Checks that the LiDAR item at `path` has no beam leaving its head inside the train's body
+/// (train.body).
 void checkLidarClearOfTheBody(const scenario::Json& item, const TrainConfig& train,
                               const std::string& path, std::vector<scenario::Problem>& problems);
 

@@ -71,7 +71,7 @@ const SensorKind& kindOf(std::unique_ptr<Sensor> (*create)(const SensorSetup&)) 
                        [&](const SensorKind& k) { return k.create == create; });
 }
 
-// No LiDAR inside the train's body: its rays would all end on the body.
+// No LiDAR beam leaving its head inside the train's body: its rays would end on the body.
 void checkLidarsClearOfTheBody(const scenario::Json& resolved,
                                std::vector<scenario::Problem>& problems) {
   const SensorKind& lidars = kindOf(&createLidar);

@@ -112,6 +112,18 @@ struct LidarFrame {
 /// The sensor's world pose (sensor → world) at `t` seconds after the frame time.
 using PoseAt = std::function<Eigen::Isometry3d(double t)>;
 
+/// Where laser `laser` of `pattern` leaves the head, sensor frame, when its beam points at
+/// `azimuth_deg` and the head at `head_deg` (ScanPattern::azimuthDeg(), headAzimuthDeg()): its
+/// Laser::vertical_offset_m and horizontal_offset_m across the beam and the pattern's
+/// beam_origin_radius_m and beam_origin_height_m.
+Eigen::Vector3d beamOrigin(const ScanPattern& pattern, int laser, double azimuth_deg,
+                           double head_deg);
+/// Whether every beam of `pattern` leaves the head outside `box` (whichever way the head
+/// points, every 5°), the sensor at `pose` in the box's axes: a sensor whose housing stands on a
+/// roof has its origin on the roof and its beams above it.
+bool beamsLeaveOutside(const ScanPattern& pattern, const Eigen::Isometry3d& pose,
+                       const Eigen::AlignedBox3d& box);
+
 /// A LiDAR with its beam directions worked out once (the table of every column's and laser's
 /// direction in the sensor frame).
 class Scanner {
