@@ -85,6 +85,23 @@ struct FrameCost {
   std::size_t instances = 0;
 };
 
+// Three frames along the default route, 40, 120 and 200 s into the run: each revolution's pose
+// and the scene within the LiDAR's reach.
+struct RouteFrame {
+  lidar::PoseAt pose;
+  lidar::RayScene scene;
+};
+std::vector<RouteFrame> framesAlongTheRoute(const World& w, scene::SceneStream& stream,
+                                            lidar::RayWorld& world) {
+  std::vector<RouteFrame> out;
+  for (const TimeNs t : {40'000'000'000, 120'000'000'000, 200'000'000'000}) {
+    lidar::PoseAt pose = revolution(w.plan->trajectory(), t);
+    lidar::RayScene scene = world.scene(stream.window(pose(0.05).translation(), 125.0).tiles);
+    out.push_back({std::move(pose), std::move(scene)});
+  }
+  return out;
+}
+
 // Raw traversal of `rays` split as the scanner splits them (each ring in runs of
 // Scanner::columnsPerTask() columns).
 double rawTraversal(tbb::task_arena& arena, const lidar::Scanner& scanner,
@@ -516,11 +533,7 @@ int main(int argc, char** argv) {
       const lidar::Scanner divergent(p);
       double frame_ms = 0.0, wires = 0.0, points = 0.0;
       int frames = 0;
-      const sim::Trajectory& trajectory = def.plan->trajectory();
-      for (const TimeNs t : {40'000'000'000, 120'000'000'000, 200'000'000'000}) {
-        const lidar::PoseAt pose = revolution(trajectory, t);
-        const lidar::RayScene scene =
-            world.scene(stream->window(pose(0.05).translation(), 125.0).tiles);
+      for (const auto& [pose, scene] : framesAlongTheRoute(def, *stream, world)) {
         const RandomStream random(1, "bench");
         std::vector<double> times;
         lidar::LidarFrame f;
@@ -566,11 +579,7 @@ int main(int argc, char** argv) {
     const lidar::Scanner offset(p), origin(centred);
     double ms_offset = 0.0, ms_origin = 0.0, points = 0.0;
     std::vector<double> moved;
-    const sim::Trajectory& trajectory = def.plan->trajectory();
-    for (const TimeNs t : {40'000'000'000, 120'000'000'000, 200'000'000'000}) {
-      const lidar::PoseAt pose = revolution(trajectory, t);
-      const lidar::RayScene scene =
-          world.scene(stream->window(pose(0.05).translation(), 125.0).tiles);
+    for (const auto& [pose, scene] : framesAlongTheRoute(def, *stream, world)) {
       const RandomStream random(1, "bench");
       lidar::LidarFrame a, b;
       std::vector<double> ta, tb;
