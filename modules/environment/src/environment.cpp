@@ -51,14 +51,10 @@ std::optional<std::string> obstacleLeftOut(const track::Layout& layout,
       o.offset_m;
   const detail::TunnelTube tube =
       detail::tunnelTube(layout, terrain, tunnel->chainage_begin_m, tunnel->chainage_end_m);
-  const Eigen::AlignedBox2d footprint = obstacleFootprint(o.kind);
   double lo = centre, hi = centre;
-  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
-                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
-    const Eigen::Vector2d c = footprint.corner(corner);
-    const double y = centre + c.x() * std::sin(o.heading_rad) + c.y() * std::cos(o.heading_rad);
-    lo = std::min(lo, y);
-    hi = std::max(hi, y);
+  for (const Eigen::Vector2d& c : obstacleCorners(o)) {
+    lo = std::min(lo, centre + c.y());
+    hi = std::max(hi, centre + c.y());
   }
   if (lo >= tube.centre - tube.r && hi <= tube.centre + tube.r)
     return std::nullopt;
@@ -68,6 +64,19 @@ std::optional<std::string> obstacleLeftOut(const track::Layout& layout,
       "stand in the rock",
       tunnel->chainage_begin_m, tunnel->chainage_end_m, lo, hi, tube.centre - tube.r,
       tube.centre + tube.r);
+}
+
+std::array<Eigen::Vector2d, 4> obstacleCorners(const Obstacle& o) {
+  const Eigen::AlignedBox2d footprint = obstacleFootprint(o.kind);
+  const double c = std::cos(o.heading_rad), s = std::sin(o.heading_rad);
+  std::array<Eigen::Vector2d, 4> out;
+  std::size_t i = 0;
+  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
+                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
+    const Eigen::Vector2d k = footprint.corner(corner);
+    out[i++] = {k.x() * c - k.y() * s, k.x() * s + k.y() * c};
+  }
+  return out;
 }
 
 Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind) {

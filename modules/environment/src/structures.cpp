@@ -358,15 +358,10 @@ std::optional<PlacedObstacle> Environment::placeObstacle(std::size_t i) const {
   out.foot = surfaceUnder(o.track, o.chainage_m, o.offset_m);
   // The surface under its footprint's corners (along its track and across it; a curve's
   // bending over a few metres is left out).
-  const Eigen::AlignedBox2d footprint = obstacleFootprint(o.kind);
-  const double c = std::cos(o.heading_rad), s = std::sin(o.heading_rad);
-  for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
-                            Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
-    const Eigen::Vector2d k = footprint.corner(corner);
-    const double x = std::clamp(o.chainage_m + k.x() * c - k.y() * s, on.main_chainage_begin_m,
-                                on.main_chainage_end_m);
-    const double dz =
-        surfaceUnder(o.track, x, o.offset_m + k.x() * s + k.y() * c).z() - out.foot.z();
+  for (const Eigen::Vector2d& k : obstacleCorners(o)) {
+    const double x =
+        std::clamp(o.chainage_m + k.x(), on.main_chainage_begin_m, on.main_chainage_end_m);
+    const double dz = surfaceUnder(o.track, x, o.offset_m + k.y()).z() - out.foot.z();
     out.above_m = std::max(out.above_m, dz);
     out.below_m = std::min(out.below_m, dz);
   }

@@ -36,16 +36,11 @@ std::optional<ObstacleStop> obstacleStop(const track::Route& route, const track:
         route.track, layout.tracks[static_cast<std::size_t>(o.track)], o.chainage_m);
     const track::TrackFrame main = track::trackFrame(route.track, layout.tracks[0], o.chainage_m);
     const Eigen::Vector2d t = plan(own.tangent), l(-t.y(), t.x());
-    const Eigen::Vector2d x = std::cos(o.heading_rad) * t + std::sin(o.heading_rad) * l;
-    const Eigen::Vector2d y(-x.y(), x.x());
     const Eigen::Vector2d centre = (own.position + o.offset_m * own.left).head<2>();
     const Eigen::Vector2d t0 = plan(main.tangent), l0(-t0.y(), t0.x());
-    const Eigen::AlignedBox2d footprint = environment::obstacleFootprint(o.kind);
     Eigen::AlignedBox2d box;
-    for (const auto corner : {Eigen::AlignedBox2d::BottomLeft, Eigen::AlignedBox2d::BottomRight,
-                              Eigen::AlignedBox2d::TopLeft, Eigen::AlignedBox2d::TopRight}) {
-      const Eigen::Vector2d c = footprint.corner(corner);
-      const Eigen::Vector2d d = centre + c.x() * x + c.y() * y - main.position.head<2>();
+    for (const Eigen::Vector2d& c : environment::obstacleCorners(o)) {
+      const Eigen::Vector2d d = centre + c.x() * t + c.y() * l - main.position.head<2>();
       box.extend(Eigen::Vector2d(d.dot(t0), d.dot(l0)));
     }
     if (box.min().y() >= half_width || box.max().y() <= -half_width)

@@ -121,6 +121,9 @@ struct PlacedObstacle {
 /// An obstacle kind's footprint: the plan view of its mesh's bounds in its own axes (x the way
 /// it faces, y to its left), m.
 Eigen::AlignedBox2d obstacleFootprint(ObstacleKind kind);
+/// The corners of `o`'s footprint turned by its heading, relative to where it stands, in its
+/// track's axes: (along the track, to its left), m.
+std::array<Eigen::Vector2d, 4> obstacleCorners(const Obstacle& o);
 
 /// Why an obstacle cannot stand where it is put: on a track the layout does not have, or at a
 /// main chainage its track does not cover (to a micrometre: the route's end is on it); nothing
