@@ -21,6 +21,7 @@
 #include "trainsim/core/log.hpp"
 #include "trainsim/core/random.hpp"
 #include "trainsim/io/png.hpp"
+#include "trainsim/scene/atmosphere.hpp"
 #include "trainsim/scene/mesh.hpp"
 #include "trainsim/scene/semantics.hpp"
 #include "trainsim/sim/config.hpp"
@@ -243,7 +244,7 @@ class CameraSensor final : public SensorOf<CameraFrame> {
   // `up`: the local vertical in the camera's axes.
   void applyFog(camera::CameraImages& img, const camera::Lighting& lighting,
                 const Eigen::Vector3d& up) const {
-    const double beta = 3.912 / config_.fog_visibility_m, H = config_.fog_height_m;
+    const double beta = scene::fogExtinction(config_.fog_visibility_m), H = config_.fog_height_m;
     const camera::Intrinsics& k = renderer_.options().intrinsics;
     const double lit = std::min(skywardLight(lighting) / noon_sky_light_,
                                 horizonLuminance(lighting) / noon_horizon_);
@@ -259,13 +260,8 @@ class CameraSensor final : public SensorOf<CameraFrame> {
         const double x = (u - k.cx) / k.fx, y = (v - k.cy) / k.fy;
         const double norm = std::sqrt(1.0 + x * x + y * y);
         const double s = (x * up.x() + y * up.y() + up.z()) / norm;  // sine of the elevation
-        double depth = std::numeric_limits<double>::infinity();
-        if (z > 0.0) {
-          const double range = z * norm, a = range * s / H;
-          depth = beta * range * (a > 1e-12 ? -std::expm1(-a) / a : 1.0);
-        } else if (s > 0.0) {
-          depth = beta * H / s;
-        }
+        const double depth =
+            z > 0.0 ? scene::fogDepth(beta, H, z * norm, s) : scene::fogDepthToSky(beta, H, s);
         const double keep = std::exp(-depth);
         for (int ch = 0; ch < 3; ++ch) {
           std::uint8_t& c = img.rgb[3 * i + ch];
