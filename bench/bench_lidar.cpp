@@ -3,12 +3,13 @@
 // same rays in the same run (ranges only, no labels, normals, intensity or output order), the
 // ways rays can be handed to Embree (packets of 8 along a ring or down a column, one by one, a
 // stream), the ISA cap, instanced against flattened trees, sub-rays a pulse against wire hits,
-// the HDL-64E's beams from their calibrated origins against all from the sensor's, terrain as
-// triangles or grids, and frame time and memory 1 km and 100 km along a route.
+// the HDL-64E's beams from their calibrated origins against all from the sensor's, fog,
+// terrain as triangles or grids, and frame time and memory 1 km and 100 km along a route.
 //
-//   bench_lidar [--quick | --profile | --route [KM]]   (--quick: the default scene only;
+//   bench_lidar [--quick | --profile | --fog | --route [KM]]   (--quick: the default scene only;
 //   --profile: one frame of the default scene cast 200 times, alternating with its raw
-//   traversal, for a profiler; --route: 1 km against 100 km only, or against KM km out)
+//   traversal, for a profiler; --fog: the fog's table only; --route: 1 km against 100 km only,
+//   or against KM km out)
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -396,6 +397,56 @@ void routeLength(tbb::task_arena& arena, const lidar::Scanner& scanner, int far_
       end.frame_ms / alone.frame_ms, end.peak_mb / alone.peak_mb);
 }
 
+// The HDL-64E S3 preset detecting a 10 % target out to 50 m (its datasheet's pavement range),
+// through fog of falling visibility: what the fog costs a frame (every pulse then goes through
+// the one-pulse-at-a-time path, which weighs its echo against the surfaces'), and what it
+// leaves of the scene, with the strongest and with the last return.
+void fogTable(const World& def, tbb::task_arena& arena, const lidar::Scanner& scanner) {
+  fmt::print(
+      "\nFog (HDL-64E S3 preset, range_10_percent_m 50; 3 frames along the default route):\n\n"
+      "| visibility m | returns | frame ms | x clear | surface points | fog points | surface "
+      "points beyond 20 m |\n"
+      "|---|---|---|---|---|---|---|\n");
+  {
+    auto stream = def.stage->environment->stream(16);
+    lidar::RayWorld world;
+    const std::vector<RouteFrame> frames = framesAlongTheRoute(def, *stream, world);
+    double clear_ms = 0.0;
+    for (const auto returns :
+         {lidar::LidarParams::Returns::kStrongest, lidar::LidarParams::Returns::kLast})
+      for (const double visibility : {0.0, 1000.0, 200.0, 100.0, 50.0}) {
+        lidar::LidarParams p = scanner.params();
+        p.pattern = lidar::preset("hdl64", 10.0);
+        p.range_10_percent_m = 50.0;
+        p.returns = returns;
+        p.fog.visibility_m = visibility;
+        const lidar::Scanner foggy(p);
+        double frame_ms = 0.0, surface = 0.0, fog = 0.0, far = 0.0;
+        for (const auto& [pose, scene] : frames) {
+          const RandomStream random(1, "bench");
+          lidar::LidarFrame f;
+          std::vector<double> times;
+          for (int r = 0; r < kRepeats; ++r) {
+            const auto t0 = Clock::now();
+            arena.execute([&] { foggy.scan(scene, pose, random, 0, f); });
+            times.push_back(ms(t0));
+          }
+          frame_ms += median(times) / 3.0;
+          for (const auto& pt : f.points) {
+            (pt.cls == scene::cls::kFog ? fog : surface) += 1.0 / 3.0;
+            far += pt.cls != scene::cls::kFog && pt.range_m > 20.0 ? 1.0 / 3.0 : 0.0;
+          }
+        }
+        if (visibility == 0.0 && returns == lidar::LidarParams::Returns::kStrongest)
+          clear_ms = frame_ms;
+        fmt::print("| {} | {} | {:.2f} | {:.2f} | {:.0f} | {:.0f} | {:.0f} |\n",
+                   visibility == 0.0 ? std::string("clear") : fmt::format("{:.0f}", visibility),
+                   returns == lidar::LidarParams::Returns::kLast ? "last" : "strongest", frame_ms,
+                   frame_ms / clear_ms, surface, fog, far);
+      }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -404,6 +455,10 @@ int main(int argc, char** argv) {
   const lidar::Scanner scanner = scanner64x2048();
   if (argc > 1 && std::strcmp(argv[1], "--route") == 0) {
     routeLength(arena, scanner, argc > 2 ? std::max(20, 2 * (std::atoi(argv[2]) / 2)) : 100);
+    return 0;
+  }
+  if (argc > 1 && std::strcmp(argv[1], "--fog") == 0) {
+    fogTable(makeWorld(0.0), arena, scanner);
     return 0;
   }
   if (argc > 1 && std::strcmp(argv[1], "--profile") == 0) {
@@ -609,6 +664,7 @@ int main(int argc, char** argv) {
                1e3 * percentile(moved, 0.95));
     fmt::print("| the sensor's origin | {:.2f} | 1 | | | |\n", ms_origin / 3);
   }
+  fogTable(def, arena, scanner);
   // --- Terrain as triangles or as Embree grids ------------------------------------------------
   // The full 1 m height grid handed to Embree as triangles or as grid geometry (the same surface:
   // unit_lidar's HeightFields test), against the CGAL-simplified mesh the scene uses.

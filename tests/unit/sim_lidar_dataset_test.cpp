@@ -29,6 +29,8 @@
 #include "trainsim/core/frames.hpp"
 #include "trainsim/environment/environment.hpp"
 #include "trainsim/io/file_io.hpp"
+#include "trainsim/lidar/fog.hpp"
+#include "trainsim/lidar/intensity.hpp"
 #include "trainsim/scene/semantics.hpp"
 #include "trainsim/sim/generate.hpp"
 #include "trainsim/sim/plan.hpp"
@@ -457,6 +459,68 @@ TEST(LidarDataset, RangeNoiseDefaultsToTheDevicesDatasheetValue) {
   ASSERT_GT(n, 10'000u);
   const double sigma = std::sqrt((sum2 / n - (sum / n) * (sum / n)) / 2.0);
   EXPECT_NEAR(sigma, 0.03, 0.03 * 0.03) << n << " firings";
+}
+
+TEST(LidarDataset, FogDimsTheSceneAndReturnsItsOwnEchoLabelledFog) {
+  // A VLP-16 on a train standing in fog of 60 m visibility, last returns, detecting a 10 %
+  // target out to 40 m in clear air: the fog's echoes (class fog, instance 0) lie within the
+  // waveform's top, and no surface is returned beyond where the fog dims its material, seen
+  // head-on, under the detectable power.
+  const double V = 60.0, range_10 = 40.0;
+  const scenario::Json input = {
+      {"seed", 5},
+      {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
+      {"layout", {{"double_track", false}}},
+      {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
+      {"dataset", {{"frame_period_ns", 1'000'000'000}}},
+      {"sensors",
+       {{"lidars",
+         {{{"model", "vlp16"},
+           {"period_ns", 1'000'000'000},
+           {"returns", "last"},
+           {"range_10_percent_m", range_10},
+           {"fog_visibility_m", V}}}}}}};
+  const fs::path out = fs::temp_directory_path() / fmt::format("trainsim_lidar_fog_{}", ::getpid());
+  fs::remove_all(out);
+  GenerateOptions options;
+  options.out = out;
+  generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+  const fs::path seq = out / "sequences" / "00";
+  const auto labels = readLabels(seq / "labels" / "000000.label");
+  const auto info = readPointInfo(seq / "point_info" / "000000.bin");
+  fs::remove_all(out);
+  ASSERT_EQ(labels.size(), info.size());
+  lidar::FogParams params;
+  params.visibility_m = V;
+  const lidar::FogModel fog(params);
+  // How far each material is detected head-on (its brightest: ρ e^(−2αR) / R² = 0.1 /
+  // range_10², by bisection).
+  const auto reach = [&](scene::MaterialId m) {
+    const double rho = lidar::reflectivity(scene::material(m), 1.0);
+    double lo = 0.5, hi = 500.0;
+    for (int i = 0; i < 100; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (rho * std::exp(-2.0 * 3.912 / V * mid) / (mid * mid) >= 0.1 / (range_10 * range_10) ? lo
+                                                                                           : hi) =
+          mid;
+    }
+    return lo;
+  };
+  std::size_t fogs = 0, surfaces = 0;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if ((labels[i] & 0xFFFFu) == scene::cls::kFog) {
+      ++fogs;
+      EXPECT_EQ(labels[i] >> 16, 0u);
+      EXPECT_GE(info[i].range_m, fog.nearRange() - 0.15);  // 3 cm range noise, 5 σ
+      EXPECT_LE(info[i].range_m, fog.farRange() + 0.15);
+    } else {
+      ++surfaces;
+      EXPECT_LE(info[i].range_m, reach(info[i].material) + 0.15)
+          << scene::material(info[i].material).name;
+    }
+  }
+  EXPECT_GT(fogs, 1000u);
+  EXPECT_GT(surfaces, 1000u);
 }
 
 // The mount, from the scenario's numbers: the LiDAR's pose in body axes.

@@ -57,6 +57,8 @@ struct Scanner::Scratch {
   std::vector<std::size_t> found;                   // per task
   std::vector<std::vector<std::uint64_t>> order;    // per ring: key bits << 32 | slot
   std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
+  Eigen::Vector3f up = Eigen::Vector3f::UnitZ();    // the local vertical, scene axes
+  std::uint32_t fog_object = 0;                     // RayHit::object of the fog's echoes
 };
 
 // One task's working memory: its rays, hits and draws (a few tens of kB, in the core's cache
@@ -182,6 +184,7 @@ Scanner::Scanner(LidarParams params) : params_(std::move(params)) {
   task_columns_ = std::min(W, (columns + kNoiseGroup - 1) / kNoiseGroup * kNoiseGroup);
   for (const scene::Material& m : scene::materials())
     backscatter_.emplace_back(m);
+  fog_ = FogModel(params_.fog);
   if (params_.sub_rays < 1 || params_.sub_rays > 1024 || !(params_.divergence_rad >= 0.0))
     throw ConfigError("LiDAR: sub_rays must be 1..1024 and the divergence not negative");
   // Sub-ray offsets over the footprint's disc of radius divergence / 2: a sunflower (Vogel)
@@ -206,11 +209,14 @@ LidarFrame Scanner::scan(const RayScene& scene, const PoseAt& pose, const Random
 }
 
 void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
-                   std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel) const {
+                   std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel,
+                   const Eigen::Vector3d& up) const {
   const ScanPattern& p = params_.pattern;
   const std::size_t W = static_cast<std::size_t>(p.columns), R = returnsPerPulse();
   std::unique_ptr<Scratch> scratch = scratch_.take([this] { return makeScratch(); });
   Scratch& w = *scratch;
+  w.up = up.normalized().cast<float>();
+  w.fog_object = static_cast<std::uint32_t>(scene.instances().size());
   const Eigen::Isometry3d frame_pose = pose(0.0);
   const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
   std::atomic<bool> cancelled = false;
@@ -262,6 +268,8 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   const bool divergent = !w.coverage.empty();
   out.coverage.resize(divergent ? first[rings] : 0);
   out.instances = scene.instances();
+  if (fog_.on())  // the fog's echoes: "stuff", of no instance
+    out.instances.push_back(0);
   tbb::parallel_for(std::size_t{0}, rings, [&](std::size_t r) {
     const std::vector<std::uint64_t>& order = w.order[r];
     // The tasks counted the ring's returns as the sort does.
@@ -361,7 +369,9 @@ std::size_t Scanner::castPulses(const RayScene& scene, const RandomStream& rando
 std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& random,
                                  std::uint64_t frame, std::size_t ring, std::size_t begin,
                                  std::size_t end, Block& b, Scratch& w) const {
-  if (footprint_.size() == 1)
+  // One ray a pulse, eight pulses at a time; each pulse on its own where it may have several
+  // echoes (sub-rays, or a fog's echo before the surface's).
+  if (footprint_.size() == 1 && !fog_.on())
     return castPulses(scene, random, frame, ring, begin, end, b, w);
   const ScanPattern& p = params_.pattern;
   const auto l = static_cast<std::size_t>(ring_lasers_[ring]);
@@ -392,7 +402,7 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
   const Eigen::Vector3d* directions = &directions_[l * W];
   LidarPoint* points = w.points.data() + ring * W * R;
   float* keys = w.keys.data() + ring * W * R;
-  float* coverages = w.coverage.data() + ring * W * R;
+  float* coverages = w.coverage.empty() ? nullptr : w.coverage.data() + ring * W * R;
   const Eigen::Vector3d* origins = origins_.empty() ? nullptr : &origins_[l * W];
   const auto origin = [&](std::size_t c) -> Eigen::Vector3d {
     return origins != nullptr ? origins[c] : Eigen::Vector3d::Zero();
@@ -428,6 +438,15 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
     ++found;
   };
 
+  // The fog's echo: its label, and its range drawn per pulse (keyed as the dropout's draws).
+  const bool foggy = fog_.on();
+  const RayHit fog_label{0.0f, Eigen::Vector3f::Zero(), scene::cls::kFog, scene::mat::kNone,
+                         w.fog_object};
+  const Eigen::Vector3f up = w.up;
+  std::array<double, 4> fog_u{};
+  const RandomStream fog_random(random.seed(), random.stream() ^ 0x27d4eb2fu);
+  const std::uint64_t fog_key = (frame << kLaserBits) | l;
+
   std::vector<Echo>& echoes = b.echoes;
   for (std::size_t c = begin; c < end; ++c) {
     const std::size_t base = (c - begin) * N;
@@ -441,17 +460,41 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
         continue;
       const double cos_theta =
           std::abs(h.normal.cast<double>().dot(rays[base + k].direction.cast<double>()));
-      b.sub.push_back({&h, rays[base + k].direction, h.range, backscatter[h.material](cos_theta)});
+      double rho = backscatter[h.material](cos_theta);
+      if (foggy)  // dimmed by the fog there and back
+        rho *= fog_.transmission(h.range, rays[base + k].direction.dot(up));
+      b.sub.push_back({&h, rays[base + k].direction, h.range, rho});
+    }
+    echoes.clear();
+    if (!b.sub.empty())
+      echoesOf(b.sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
+    if (foggy) {
+      // The fog's echo, from the share of the footprint that no nearer surface covers (with one
+      // ray a pulse, any nearer surface hides it), beyond where the receiver is blind and
+      // before the vehicle's body ends the beam.
+      if (c == begin || c % 4 == 0)
+        fog_u = fog_random.uniform4(fog_key, c / 4);
+      const double at = fog_.drawRange(fog_u[c % 4]);
+      std::size_t before = 0;
+      double open = 1.0;
+      for (; before < echoes.size() && echoes[before].range <= at; ++before)
+        open -= echoes[before].coverage;
+      const Ray& axis = rays[base];  // one sub-ray's is as good: the fog fills the footprint
+      if (at >= range_min && at < axis.t_far && open > 1e-9) {
+        const double s = axis.direction.dot(up);
+        const double rho = open * fog_.peakPower() * fog_.density(at, s) * at * at;
+        echoes.insert(echoes.begin() + static_cast<std::ptrdiff_t>(before),
+                      Echo{at, rho, open, &fog_label});
+      }
     }
     std::size_t chosen = 0;
-    if (!b.sub.empty() && kept[c - begin] != 0) {
-      echoesOf(b.sub, params_.echo_separation_m, 1.0 / static_cast<double>(N), echoes);
+    if (!echoes.empty() && kept[c - begin] != 0)
       chosen = selectReturns(echoes, params_);  // 0 when none is bright enough
-    }
     for (std::size_t j = 0; j < R; ++j) {
       if (j < chosen) {
         put(c, j, echoes[j].range, echoes[j].reflectivity, *echoes[j].label);
-        coverages[c * R + j] = static_cast<float>(echoes[j].coverage);
+        if (coverages != nullptr)
+          coverages[c * R + j] = static_cast<float>(echoes[j].coverage);
       } else
         keys[c * R + j] = kNoReturn;
     }

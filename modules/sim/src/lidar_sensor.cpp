@@ -14,6 +14,7 @@
 #include "class_counts.hpp"
 #include "trainsim/core/error.hpp"
 #include "trainsim/core/frames.hpp"
+#include "trainsim/core/geodesy.hpp"
 #include "trainsim/core/log.hpp"
 #include "trainsim/io/packed.hpp"
 #include "trainsim/io/pcd.hpp"
@@ -95,6 +96,7 @@ struct LidarConfig {
   double divergence_rad = 0.00225;
   double echo_separation_m = 0.3;
   ReturnMode returns = ReturnMode::kStrongest;
+  double fog_visibility_m = 0.0, fog_height_m = 100.0, fog_overlap_m = 10.0;
 };
 
 std::string_view presetName(LidarModel m) {
@@ -243,6 +245,30 @@ const scenario::Binding<LidarConfig>& lidarBinding() {
              "Echoes a pulse reports: strongest (received power), last, or dual (both; one "
              "point when they are the same echo). point_info's return index is 0 for the strongest "
              "(or the only) return, 1 for the last of a dual pair");
+    b.number("fog_visibility_m", &C::fog_visibility_m, kM,
+             "Meteorological visibility of fog at the train (2 % contrast, Koschmieder: "
+             "extinction 3.912 / visibility), in the cameras' layer (fog_height_m): every echo "
+             "is dimmed by its two-way transmission, so far and dark surfaces fade first, and "
+             "the fog's own backscatter returns an echo a few metres out, class fog (after "
+             "Rasshofer et al. 2011 and Hahner et al. 2021: a 20 ns pulse, 0.046 / MOR "
+             "backscatter). With returns strongest, thick fog hides all but near, bright "
+             "surfaces behind its echo; last and dual still report the surfaces the fog lets be "
+             "detected (range_10_percent_m sets how faint that is). Every pulse then takes the "
+             "path that weighs several echoes, one ray at a time: about twice a clear frame's "
+             "time; 0: clear")
+        .range(0, 100000);
+    b.number("fog_height_m", &C::fog_height_m, kM,
+             "The fog's scale height: its extinction falls by e for every this many metres "
+             "above the sensor (and stays the visibility's below it), as the cameras' "
+             "fog_height_m")
+        .range(1, 100000);
+    b.number("fog_overlap_m", &C::fog_overlap_m, kM,
+             "Range from which the receiver sees the whole beam (its overlap with the beam "
+             "rises linearly from 0.9 m to here): the fog's echo comes mostly from its first "
+             "metres, so this sets how strong it is. Default [unverified per device]: Hahner "
+             "et al. note most sensors reach full overlap within 10 m and use 1 m, with which "
+             "an HDL-64E's sky returns fog even in 1 km of visibility")
+        .range(1, 100);
     b.boolean("point_info", &C::point_info,
               "Write point_info/*.bin: per point firing time, range, ring, return index, "
               "material");
@@ -386,6 +412,9 @@ lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
   p.sub_rays = c.sub_rays;
   p.divergence_rad = c.divergence_rad;
   p.echo_separation_m = c.echo_separation_m;
+  p.fog.visibility_m = c.fog_visibility_m;
+  p.fog.height_m = c.fog_height_m;
+  p.fog.overlap_full_m = c.fog_overlap_m;
   p.returns = c.returns == ReturnMode::kDual   ? lidar::LidarParams::Returns::kDual
               : c.returns == ReturnMode::kLast ? lidar::LidarParams::Returns::kLast
                                                : lidar::LidarParams::Returns::kStrongest;
@@ -404,6 +433,12 @@ void warnAboutWastedSettings(const LidarConfig& c, const std::string& path) {
         fmt::format("{}: uniform.channels is 1: its one laser is at fov_up_deg ({} deg) and "
                     "fov_down_deg is not used",
                     path, c.uniform.fov_up_rad / kRadPerDeg));
+  if (c.fog_visibility_m > 0.0 && c.range_10_percent_m == 0.0)
+    logWarn(
+        fmt::format("{}: fog_visibility_m is set but range_10_percent_m is 0: a sensor that "
+                    "detects every echo however faint returns the fog's own echo on every pulse "
+                    "that meets nothing nearer; set range_10_percent_m (the OS1 datasheet: 40 m)",
+                    path));
   if (const double device = devicePattern(c).range_max_m;
       c.model != LidarModel::kUniform && c.range_max_m > device)
     logWarn(
@@ -500,6 +535,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
         period_(c.basics.period_ns),
         index_(setup.index),
         T_body_cam0_(setup.context.T_body_cam0),
+        anchor_(setup.context.anchor),
         scanner_(scannerParams(c, trainSection().read(setup.context.scenario.json()), setup.path)),
         random_(setup.context.scenario.seed(), name_ + ".returns"),
         point_info_(c.point_info),
@@ -566,7 +602,8 @@ class LidarSensor final : public SensorOf<LidarScan> {
     const lidar::LidarFrame& frame = *reused;
     scanner_.scan(
         scene, [&](double t) { return poses.at(t); }, random_,
-        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())), *reused, cancel_);
+        static_cast<std::uint64_t>(k / (period_ / trajectory_.samplePeriod())), *reused, cancel_,
+        anchor_.rotationAnchorFromLocalEnu(centre).col(2));
 
     LidarScan out;
     out.rays = frame.rays;
@@ -642,6 +679,7 @@ class LidarSensor final : public SensorOf<LidarScan> {
   TimeNs period_;
   int index_;
   Eigen::Isometry3d T_body_cam0_;
+  GeodeticAnchor anchor_;  // the local vertical, for the fog's layer
   Eigen::Isometry3d T_body_sensor_ = Eigen::Isometry3d::Identity();
   lidar::Scanner scanner_;
   RandomStream random_;

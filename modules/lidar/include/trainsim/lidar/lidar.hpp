@@ -14,6 +14,7 @@
 
 #include "trainsim/core/object_pool.hpp"
 #include "trainsim/core/random.hpp"
+#include "trainsim/lidar/fog.hpp"
 #include "trainsim/lidar/intensity.hpp"
 #include "trainsim/lidar/ray_scene.hpp"
 #include "trainsim/lidar/scan_pattern.hpp"
@@ -71,6 +72,13 @@ struct LidarParams {
     Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();
   };
   std::optional<Vehicle> vehicle;
+  /// Fog (FogModel): every echo dimmed by its two-way transmission, and the fog's own
+  /// backscatter an echo of its own at a range drawn per pulse, from the share of the footprint
+  /// no nearer surface covers, labelled scene::cls::kFog (an object of instance 0). It competes
+  /// with the surfaces' echoes as they compete with each other (LidarParams::returns): in thick fog
+  /// the strongest return is the fog's for all but near, bright surfaces, and the last return still
+  /// reaches those the fog lets be detected.
+  FogParams fog;
 };
 
 /// One return, in 32 bytes (two to a cache line: a frame is written, ordered and read back
@@ -160,8 +168,12 @@ class Scanner {
   /// LidarFrame (a few MB) instead of allocating and initialising it every time. Once `cancel`
   /// (optional) is set, the columns not yet cast are skipped and Cancelled is thrown: a scan of
   /// many sub-rays can take minutes, and Ctrl-C should not wait for it.
+  /// `up` is the local vertical in the scene's axes, which the fog's layer thins along.
   void scan(const RayScene& scene, const PoseAt& pose, const RandomStream& random,
-            std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel = nullptr) const;
+            std::uint64_t frame, LidarFrame& out, const std::atomic<bool>* cancel = nullptr,
+            const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ()) const;
+  /// The fog the scanner casts through (LidarParams::fog).
+  const FogModel& fog() const { return fog_; }
   /// Tasks a ring is cast in (each of columnsPerTask() columns, the last what is left).
   std::size_t tasksPerRing() const;
   std::size_t columnsPerTask() const { return task_columns_; }
@@ -232,6 +244,7 @@ class Scanner {
   std::vector<int> ring_lasers_;            // the laser of each ring
   std::size_t task_columns_ = 0;            // columns of one ring a task casts
   std::vector<Backscatter> backscatter_;    // by material id
+  FogModel fog_;
 
   struct Scratch;
   struct Block;

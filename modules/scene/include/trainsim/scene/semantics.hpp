@@ -68,7 +68,7 @@ inline constexpr ClassId kUnlabelled = 0, kRail = 1, kSleeper = 2, kTrackbed = 3
                          kVegetation = 5, kTree = 6, kTrunk = 7, kRock = 8, kBuilding = 9,
                          kPole = 10, kWire = 11, kFence = 12, kPlatform = 13, kTunnel = 14,
                          kBridge = 15, kSignal = 16, kSky = 17, kPerson = 18, kCar = 19,
-                         kAnimal = 20;
+                         kAnimal = 20, kFog = 21;
 }  // namespace cls
 
 /// The material ids the generators use, checked by `SemanticTable.NamedIdsMatchTheTable`.
