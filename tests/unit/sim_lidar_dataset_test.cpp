@@ -425,23 +425,31 @@ struct BruteForce {
   }
 };
 
-TEST(LidarDataset, RangeNoiseDefaultsToTheDevicesDatasheetValue) {
-  // A VLP-16 (datasheet 3 cm, 1 sigma) with no range_sigma_m on a train standing still: two
-  // scans of the same scene from the same pose, so each firing's two ranges differ by the noise
-  // alone, with sigma 0.03 * sqrt(2).
+// A train standing on a 300 m straight single track for `standstill_s`, with one LiDAR `lidar`
+// scanning once a second, generated into a folder of the process's own named `name`.
+fs::path generateStanding(const std::string& name, double standstill_s,
+                          const scenario::Json& lidar) {
   const scenario::Json input = {
       {"seed", 5},
       {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
       {"layout", {{"double_track", false}}},
-      {"trajectory", {{"static_only", true}, {"standstill_start_s", 2}}},
+      {"trajectory", {{"static_only", true}, {"standstill_start_s", standstill_s}}},
       {"dataset", {{"frame_period_ns", 1'000'000'000}}},
-      {"sensors", {{"lidars", {{{"model", "vlp16"}, {"period_ns", 1'000'000'000}}}}}}};
-  const fs::path out =
-      fs::temp_directory_path() / fmt::format("trainsim_lidar_sigma_{}", ::getpid());
+      {"sensors", {{"lidars", scenario::Json::array({lidar})}}}};
+  const fs::path out = fs::temp_directory_path() / fmt::format("{}_{}", name, ::getpid());
   fs::remove_all(out);
   GenerateOptions options;
   options.out = out;
   generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+  return out;
+}
+
+TEST(LidarDataset, RangeNoiseDefaultsToTheDevicesDatasheetValue) {
+  // A VLP-16 (datasheet 3 cm, 1 sigma) with no range_sigma_m on a train standing still: two
+  // scans of the same scene from the same pose, so each firing's two ranges differ by the noise
+  // alone, with sigma 0.03 * sqrt(2).
+  const fs::path out = generateStanding("trainsim_lidar_sigma", 2,
+                                        {{"model", "vlp16"}, {"period_ns", 1'000'000'000}});
   const fs::path seq = out / "sequences" / "00" / "point_info";
   std::map<std::pair<std::uint16_t, float>, float> first;  // (ring, firing time) -> range
   for (const PointInfo& p : readPointInfo(seq / "000000.bin"))
@@ -467,24 +475,12 @@ TEST(LidarDataset, FogDimsTheSceneAndReturnsItsOwnEchoLabelledFog) {
   // waveform's top, and no surface is returned beyond where the fog dims its material, seen
   // head-on, under the detectable power.
   const double V = 60.0, range_10 = 40.0;
-  const scenario::Json input = {
-      {"seed", 5},
-      {"route", {{"source", "blocks"}, {"blocks", {{{"type", "straight"}, {"length_m", 300}}}}}},
-      {"layout", {{"double_track", false}}},
-      {"trajectory", {{"static_only", true}, {"standstill_start_s", 1}}},
-      {"dataset", {{"frame_period_ns", 1'000'000'000}}},
-      {"sensors",
-       {{"lidars",
-         {{{"model", "vlp16"},
-           {"period_ns", 1'000'000'000},
-           {"returns", "last"},
-           {"range_10_percent_m", range_10},
-           {"fog_visibility_m", V}}}}}}};
-  const fs::path out = fs::temp_directory_path() / fmt::format("trainsim_lidar_fog_{}", ::getpid());
-  fs::remove_all(out);
-  GenerateOptions options;
-  options.out = out;
-  generate(scenario::Scenario::resolve(input, scenarioSchema()), options);
+  const fs::path out = generateStanding("trainsim_lidar_fog", 1,
+                                        {{"model", "vlp16"},
+                                         {"period_ns", 1'000'000'000},
+                                         {"returns", "last"},
+                                         {"range_10_percent_m", range_10},
+                                         {"fog_visibility_m", V}});
   const fs::path seq = out / "sequences" / "00";
   const auto labels = readLabels(seq / "labels" / "000000.label");
   const auto info = readPointInfo(seq / "point_info" / "000000.bin");

@@ -58,7 +58,6 @@ struct Scanner::Scratch {
   std::vector<std::vector<std::uint64_t>> order;    // per ring: key bits << 32 | slot
   std::vector<std::vector<std::uint32_t>> buckets;  // per ring: a counting sort's starts
   Eigen::Vector3f up = Eigen::Vector3f::UnitZ();    // the local vertical, scene axes
-  std::uint32_t fog_object = 0;                     // RayHit::object of the fog's echoes
 };
 
 // One task's working memory: its rays, hits and draws (a few tens of kB, in the core's cache
@@ -216,7 +215,6 @@ void Scanner::scan(const RayScene& scene, const PoseAt& pose, const RandomStream
   std::unique_ptr<Scratch> scratch = scratch_.take([this] { return makeScratch(); });
   Scratch& w = *scratch;
   w.up = up.normalized().cast<float>();
-  w.fog_object = static_cast<std::uint32_t>(scene.instances().size());
   const Eigen::Isometry3d frame_pose = pose(0.0);
   const Eigen::Isometry3d world_to_frame = frame_pose.inverse();
   std::atomic<bool> cancelled = false;
@@ -440,8 +438,9 @@ std::size_t Scanner::castColumns(const RayScene& scene, const RandomStream& rand
 
   // The fog's echo: its label, and its range drawn per pulse (keyed as the dropout's draws).
   const bool foggy = fog_.on();
+  // The fog's object is the one scan() appends to the scene's.
   const RayHit fog_label{0.0f, Eigen::Vector3f::Zero(), scene::cls::kFog, scene::mat::kNone,
-                         w.fog_object};
+                         static_cast<std::uint32_t>(scene.instances().size())};
   const Eigen::Vector3f up = w.up;
   std::array<double, 4> fog_u{};
   const RandomStream fog_random(random.seed(), random.stream() ^ 0x27d4eb2fu);
