@@ -15,6 +15,8 @@ constexpr double kBackscatterTimesMor = 0.046;
 // The soft-target integral's step: the integrand's kinks (where the overlap starts and ends)
 // cost the trapezoid rule O(h²) there, under 1e-6 of the response at 1 mm.
 constexpr double kInnerStep = 0.001;
+// The response table's step (m).
+constexpr double kStep = 0.01;
 }  // namespace
 
 FogModel::FogModel(const FogParams& params) : params_(params) {
@@ -46,12 +48,12 @@ FogModel::FogModel(const FogParams& params) : params_(params) {
     const double s = std::sin(std::numbers::pi * static_cast<double>(j) * kInnerStep / L);
     pulse[j] = s * s;
   }
-  const auto rows = static_cast<std::size_t>(end / step_) + 1;
+  const auto rows = static_cast<std::size_t>(end / kStep) + 1;
   response_.assign(rows, 0.0);
-  const auto per_row = static_cast<std::size_t>(std::lround(step_ / kInnerStep));
+  const auto per_row = static_cast<std::size_t>(std::lround(kStep / kInnerStep));
   const auto first = static_cast<std::size_t>(std::lround(r0 / kInnerStep));
   for (std::size_t i = 0; i < rows; ++i) {
-    // R = i · step_ is grid point k = i · per_row of a grid from 0; g's point j is k = first + j.
+    // R = i · kStep is grid point k = i · per_row of a grid from 0; g's point j is k = first + j.
     const std::size_t k = i * per_row;
     if (k <= first)
       continue;
@@ -66,14 +68,14 @@ FogModel::FogModel(const FogParams& params) : params_(params) {
   const auto peak = static_cast<std::size_t>(std::max_element(response_.begin(), response_.end()) -
                                              response_.begin());
   peak_power_ = response_[peak];
-  peak_range_ = static_cast<double>(peak) * step_;
+  peak_range_ = static_cast<double>(peak) * kStep;
   std::size_t lo = peak, hi = peak;
   while (lo > 0 && response_[lo - 1] >= 0.5 * peak_power_)
     --lo;
   while (hi + 1 < rows && response_[hi + 1] >= 0.5 * peak_power_)
     ++hi;
-  near_ = static_cast<double>(lo) * step_;
-  far_ = static_cast<double>(hi) * step_;
+  near_ = static_cast<double>(lo) * kStep;
+  far_ = static_cast<double>(hi) * kStep;
   cdf_.assign(hi - lo + 1, 0.0);
   for (std::size_t i = lo + 1; i <= hi; ++i)
     cdf_[i - lo] = cdf_[i - lo - 1] + 0.5 * (response_[i - 1] + response_[i]);
@@ -91,7 +93,7 @@ double FogModel::transmission(double range_m, double sin_elevation) const {
 double FogModel::response(double range_m) const {
   if (response_.empty() || !(range_m >= 0.0))
     return 0.0;
-  const double x = range_m / step_;
+  const double x = range_m / kStep;
   const auto i = static_cast<std::size_t>(x);
   if (i + 1 >= response_.size())
     return i + 1 == response_.size() ? response_.back() : 0.0;
@@ -107,7 +109,7 @@ double FogModel::drawRange(double u) const {
       it - cdf_.begin(), 1, static_cast<std::ptrdiff_t>(cdf_.size()) - 1));
   const double span = cdf_[i] - cdf_[i - 1];
   const double f = span > 0.0 ? std::clamp((u - cdf_[i - 1]) / span, 0.0, 1.0) : 0.0;
-  return near_ + (static_cast<double>(i - 1) + f) * step_;
+  return near_ + (static_cast<double>(i - 1) + f) * kStep;
 }
 
 double FogModel::density(double range_m, double sin_elevation) const {

@@ -68,10 +68,10 @@ class FogModel {
 
  private:
   FogParams params_;
-  double alpha_ = 0.0, beta_ = 0.0, step_ = 0.01;
-  std::vector<double> response_;  // at range i · step_
+  double alpha_ = 0.0, beta_ = 0.0;
+  std::vector<double> response_;  // at range i · 1 cm
   double peak_power_ = 0.0, peak_range_ = 0.0, near_ = 0.0, far_ = 0.0;
-  std::vector<double> cdf_;  // over [near_, far_] at step_, from 0 to 1
+  std::vector<double> cdf_;  // over [near_, far_] at 1 cm steps, from 0 to 1
 };
 
 }  // namespace trainsim::lidar
