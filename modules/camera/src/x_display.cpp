@@ -78,17 +78,16 @@ std::unique_ptr<XDisplay> XDisplay::ensure() {
   int fds[2];
   if (pipe(fds) != 0)
     throw RuntimeError(fmt::format("cannot start Xvfb: pipe: {}", std::strerror(errno)));
-  char* argv[] = {const_cast<char*>("Xvfb"),
-                  const_cast<char*>("-displayfd"),
-                  const_cast<char*>("3"),
-                  const_cast<char*>("-screen"),
-                  const_cast<char*>("0"),
-                  const_cast<char*>("2048x2048x24"),
-                  const_cast<char*>("-nolisten"),
-                  const_cast<char*>("tcp"),
-                  const_cast<char*>("+extension"),
-                  const_cast<char*>("GLX"),
-                  nullptr};
+  // -noreset: by default the server resets when its last client disconnects, and clients
+  // connecting during the reset are refused (some in 100 quick open-close cycles). Each renderer
+  // opens and closes its own connection, so the next renderer's could be refused, and VTK aborts
+  // the process then. tests/studio/with-xvfb.sh passes it too.
+  char* argv[] = {const_cast<char*>("Xvfb"),       const_cast<char*>("-displayfd"),
+                  const_cast<char*>("3"),          const_cast<char*>("-screen"),
+                  const_cast<char*>("0"),          const_cast<char*>("2048x2048x24"),
+                  const_cast<char*>("-nolisten"),  const_cast<char*>("tcp"),
+                  const_cast<char*>("+extension"), const_cast<char*>("GLX"),
+                  const_cast<char*>("-noreset"),   nullptr};
   // fork and exec rather than posix_spawn, for the parent-death signal: Xvfb goes with this
   // process however it ends (kill -9 included) instead of living on, orphaned. The child calls
   // only async-signal-safe functions. Xvfb writes its display number to fd 3 once it accepts
