@@ -296,7 +296,8 @@ TEST(ObstacleStop, TheTrainStopsItsMarginShortOfTheFirstObstacleInItsWay) {
 
 TEST(ObstacleStop, AnObstacleUnderTheTrainOrTooNearItsStartIsAProblemNamingIt) {
   // The train's front starts at 20 m (the rear wheelset at 0): a cow at 12 m stands under it; a
-  // person 10 m ahead of the front is nearer than the 20 m margin.
+  // person 10 m ahead of the front is nearer than the 20 m margin. The problem names the
+  // scenario's source ("scenario" when resolved without one), as the schema's problems do.
   const auto problem = [](const scenario::Json& obstacle, double margin) -> std::string {
     scenario::Json input = {{"route", {{"generator", {{"length_m", 1500}}}}}};
     input["objects"]["obstacles"] = scenario::Json::array({obstacle});
@@ -310,11 +311,13 @@ TEST(ObstacleStop, AnObstacleUnderTheTrainOrTooNearItsStartIsAProblemNamingIt) {
   };
   const scenario::Json cow = {{"kind", "cow"}, {"chainage_m", 12.0}, {"offset_m", 0.5}};
   const scenario::Json person = {{"kind", "person"}, {"chainage_m", 30.0}, {"offset_m", -0.8}};
-  EXPECT_EQ(
-      problem(cow, 20.0).rfind("objects.obstacles[0]: a cow under the train where it starts", 0),
-      0u)
+  EXPECT_EQ(problem(cow, 20.0).rfind(
+                "scenario: objects.obstacles[0]: a cow under the train where it starts", 0),
+            0u)
       << problem(cow, 20.0);
-  EXPECT_EQ(problem(person, 20.0).rfind("objects.obstacles[0]: a person in the train's way", 0), 0u)
+  EXPECT_EQ(
+      problem(person, 20.0).rfind("scenario: objects.obstacles[0]: a person in the train's way", 0),
+      0u)
       << problem(person, 20.0);
   EXPECT_EQ(problem(person, 5.0), "");
   scenario::Json through = {{"route", {{"generator", {{"length_m", 1500}}}}}};

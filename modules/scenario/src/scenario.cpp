@@ -56,7 +56,7 @@ Scenario Scenario::resolve(const Json& input, const Schema& schema, std::string 
   if (!r.problems.empty()) {
     throw InvalidScenario(std::move(source), std::move(r.problems));
   }
-  return Scenario(std::move(r.resolved));
+  return Scenario(std::move(r.resolved), std::move(source));
 }
 
 std::string Scenario::text() const {

@@ -202,7 +202,8 @@ GenerateReport generate(const scenario::Scenario& scenario, const GenerateOption
   std::unique_ptr<camera::XDisplay> display;
   if (hasSensors(scenario.json(), "cameras"))
     display = camera::XDisplay::ensure();
-  std::vector<std::unique_ptr<Sensor>> sensors = createSensors(context);
+  std::vector<std::unique_ptr<Sensor>> sensors =
+      scenario::namingItsSource(scenario, [&] { return createSensors(context); });
   GenerateReport report =
       runDataset(scenario, &plan->trajectory(), std::move(sensors), options, std::move(not_run),
                  [&](io::DatasetWriter& writer) { writePlan(*plan, writer.root()); });

@@ -322,23 +322,27 @@ std::int64_t Planner::builds(std::string_view name) const {
 
 std::shared_ptr<const EnvironmentStage> makeEnvironment(const Plan& plan,
                                                         const scenario::Scenario& scenario) {
-  auto stage = std::make_shared<EnvironmentStage>();
-  stage->key = stageKey(scenario, "terrain", {plan.routeStage().key, plan.layoutShared()->key});
-  stage->route = plan.routeShared();
-  stage->layout = plan.layoutShared();
-  stage->railway =
-      std::make_shared<const terrain::Railway>(stage->route->route.route, stage->layout->layout);
-  environment::EnvironmentParams params{terrainSection().read(scenario.json()),
-                                        assetsSection().read(scenario.json()),
-                                        objectsSection().read(scenario.json())};
-  stage->environment = std::make_shared<const environment::Environment>(
-      stage->railway, std::move(params), scenario.seed());
-  return stage;
+  return scenario::namingItsSource(scenario, [&] {
+    auto stage = std::make_shared<EnvironmentStage>();
+    stage->key = stageKey(scenario, "terrain", {plan.routeStage().key, plan.layoutShared()->key});
+    stage->route = plan.routeShared();
+    stage->layout = plan.layoutShared();
+    stage->railway =
+        std::make_shared<const terrain::Railway>(stage->route->route.route, stage->layout->layout);
+    environment::EnvironmentParams params{terrainSection().read(scenario.json()),
+                                          assetsSection().read(scenario.json()),
+                                          objectsSection().read(scenario.json())};
+    stage->environment = std::make_shared<const environment::Environment>(
+        stage->railway, std::move(params), scenario.seed());
+    return std::shared_ptr<const EnvironmentStage>(stage);
+  });
 }
 
 std::unique_ptr<Plan> makePlan(const scenario::Scenario& scenario) {
-  Planner planner;
-  return std::make_unique<Plan>(planner.plan(scenario));
+  return scenario::namingItsSource(scenario, [&] {
+    Planner planner;
+    return std::make_unique<Plan>(planner.plan(scenario));
+  });
 }
 
 namespace {

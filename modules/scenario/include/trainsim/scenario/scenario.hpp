@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "trainsim/core/error.hpp"
@@ -62,10 +63,30 @@ class Scenario {
   /// The master seed (seedParam()).
   std::uint64_t seed() const;
 
+  /// Where it was read from (a file's path, "<stdin>", ...): what messages about it are
+  /// prefixed with, as InvalidScenario's are.
+  const std::string& source() const { return source_; }
+
  private:
-  explicit Scenario(Json resolved) : resolved_(std::move(resolved)) {}
+  Scenario(Json resolved, std::string source)
+      : resolved_(std::move(resolved)), source_(std::move(source)) {}
   Json resolved_;
+  std::string source_;
 };
+
+/// Runs `stage`, a step that reads `scenario` (its plan, its sensors), and rethrows a
+/// ConfigError it throws prefixed with the scenario's source, as InvalidScenario's lines are:
+/// "FILE: route.blocks[1]: ...". InvalidScenario, which names its source already, passes.
+template <typename Stage>
+decltype(auto) namingItsSource(const Scenario& scenario, Stage&& stage) {
+  try {
+    return std::forward<Stage>(stage)();
+  } catch (const InvalidScenario&) {
+    throw;
+  } catch (const ConfigError& e) {
+    throw ConfigError(scenario.source() + ": " + e.what());
+  }
+}
 
 /// The top-level `seed` every scenario has: every random stream is keyed by (seed, stream
 /// name, index). Declared here, beside Scenario::seed() that reads it.
