@@ -25,6 +25,7 @@
 #include "trainsim/sim/generate.hpp"
 #include "trainsim/sim/plan.hpp"
 #include "trainsim/sim/schema.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::cli {
 namespace {
@@ -194,10 +195,15 @@ void runValidate(const std::string& path) {
     const scenario::Scenario scenario = sim::loadScenario(path);
     setLogLevel(LogLevel::kWarn);  // the plan's summary line is not validate's to print
     const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
+    // What generate would say of the sensors' settings as its run starts, said now.
+    const std::vector<std::string> warnings = sim::sensorWarnings(scenario.json());
+    for (const std::string& line : warnings)
+      logWarn(line);
     std::cout << fmt::format(
-        "{}: valid ({:.0f} m route, {} tracks, {:.0f} s run, {} design-rule warnings)\n",
+        "{}: valid ({:.0f} m route, {} tracks, {:.0f} s run, {} design-rule warnings, {} sensor "
+        "warnings)\n",
         describeSource(path), plan->route().route.track.length(), plan->layout().tracks.size(),
-        plan->motion().duration(), plan->violations().size());
+        plan->motion().duration(), plan->violations().size(), warnings.size());
   } catch (const scenario::InvalidScenario& e) {
     for (const auto& p : e.problems()) {
       std::cerr << e.source() << ": " << p.text() << "\n";

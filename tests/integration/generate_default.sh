@@ -294,6 +294,10 @@ PY
 expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top plane from 0.35 m along its axis, nearer than near_m" "a near plane cutting the track is flagged"
 grep -q "cameras\[[012]\]: the camera sees the rail-top plane" "$WORK/err" && fail "a windscreen camera was flagged for its near plane" ||
   pass "windscreen cameras are not flagged for their near plane"
+# validate says what the run's start says, before any run.
+expect_exit 0 "validate with turned and low cameras" -- "$TRAINSIM" validate "$WORK/turned.json"
+expect_contains "$WORK/err" "sensors.cameras[2]: the camera is turned against camera 0, so calib.txt's P4 is K [R | t]" "validate flags the turned camera"
+expect_contains "$WORK/err" "sensors.cameras[3]: the camera sees the rail-top plane from 0.35 m along its axis" "validate flags the near plane"
 # LiDAR ranges beyond the device's datasheet, either way, are said once when the run starts.
 cat >"$WORK/ranges.json" <<'JSON'
 {"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 300}]},
@@ -381,6 +385,8 @@ expect_exit 0 "generate with dual returns" -- "$TRAINSIM" generate "$WORK/dual.j
 expect_contains "$WORK/err" "sensors.lidars[0]: returns is dual but sub_rays is 1" "dual returns without sub-rays are flagged"
 grep -q "sensors.lidars\[1\]: returns is dual" "$WORK/err" && fail "dual returns with sub-rays were flagged" ||
   pass "dual returns with sub-rays are not flagged"
+expect_exit 0 "validate with dual returns" -- "$TRAINSIM" validate "$WORK/dual.json"
+expect_contains "$WORK/err" "sensors.lidars[0]: returns is dual but sub_rays is 1" "validate flags dual returns without sub-rays"
 [ "$(cut -d: -f1 "$WORK/dual/sequences/00/calib.txt" | tr '\n' ' ')" = "P0 P1 P2 P3 Tr Tr_1 " ] &&
   pass "LiDAR-only calib.txt: P0 P1 P2 P3 Tr Tr_1" || fail "LiDAR-only calib.txt keys: $(cut -d: -f1 "$WORK/dual/sequences/00/calib.txt")"
 finish

@@ -1,12 +1,15 @@
 // The LiDAR section's problems, each named at its field: a mount whose beams leave the head
 // inside the train's body, range limits that leave no range, more columns than the device
-// fires, spin rates and modes the device does not run.
+// fires, spin rates and modes the device does not run. And the settings of LiDARs and cameras
+// that are valid but may not be meant, said by validate and at a run's start.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
 #include "trainsim/sim/schema.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -101,6 +104,43 @@ TEST(LidarConfig, LimitsThatLeaveNoRangeOrOverlapFiringsAreProblemsNamingTheFiel
        {scenario::Json{{"range_min_m", 0.5}}, scenario::Json{{"range_max_m", 1.0}},
         scenario::Json{{"columns", 1808}}, scenario::Json{{"range_sigma_m", -1}}})
     EXPECT_TRUE(problemsOf(fine).empty()) << fine.dump();
+}
+
+TEST(SensorWarnings, EachSettingThatMayNotBeMeantIsOneLineNamingItsSensorAndTheDefaultHasNone) {
+  EXPECT_TRUE(sensorWarnings(loadScenario("").json()).empty());
+  scenario::Json input = lidarScenario();
+  scenario::Json& lidars = input["sensors"]["lidars"];
+  lidars[0]["returns"] = "dual";   // with one ray a pulse
+  lidars[0]["range_max_m"] = 150;  // beyond the VLP-16's 100 m
+  lidars.push_back({{"name", "wide"},
+                    {"model", "vlp16"},
+                    {"period_ns", 2'000'000'000},
+                    {"columns", 900},
+                    {"sub_rays", 4},
+                    {"beam_divergence_mrad", 0},
+                    {"mount", {{"x_m", 9.0}}}});
+  const auto camera = [](scenario::Json mount) {
+    return scenario::Json{
+        {"width", 64}, {"height", 48}, {"period_ns", 2'000'000'000}, {"mount", std::move(mount)}};
+  };
+  input["sensors"]["cameras"] = {camera(scenario::Json::object()),  // camera 0: nothing to say
+                                 camera({{"yaw_deg", 90}}),         // turned against camera 0
+                                 camera({{"x_m", 10.5}, {"z_m", 0.4}, {"pitch_deg", -70}})};
+  input["sensors"]["cameras"][2]["draw_distance_m"] = 1000;  // past the 400 m of terrain
+  const scenario::Schema::Resolution r = scenarioSchema().resolve(input);
+  ASSERT_TRUE(r.problems.empty()) << r.problems[0].text();
+  const std::vector<std::string> lines = sensorWarnings(r.resolved);
+  const std::vector<std::pair<std::string, std::string>> expected = {
+      {"sensors.lidars[0]", "returns is dual but sub_rays is 1"},
+      {"sensors.lidars[0]", "range_max_m 150 m is beyond the vlp16's 100 m"},
+      {"sensors.lidars[1]", "sub_rays is 4 but beam_divergence_mrad is 0"},
+      {"sensors.cameras[1]", "the camera is turned against camera 0, so calib.txt's P3"},
+      {"sensors.cameras[2]", "the camera is turned against camera 0, so calib.txt's P4"},
+      {"sensors.cameras[2]", "at draw_distance_m 1000 m the picture reaches"},
+      {"sensors.cameras[2]", "the camera sees the rail-top plane from 0.35 m along its axis"}};
+  ASSERT_EQ(lines.size(), expected.size());
+  for (std::size_t i = 0; i < lines.size(); ++i)  // in table order: the LiDARs, then the cameras
+    EXPECT_EQ(lines[i].rfind(expected[i].first + ": " + expected[i].second, 0), 0u) << lines[i];
 }
 
 }  // namespace

@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "trainsim/sim/config.hpp"
+#include "trainsim/sim/sensor_registry.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -281,4 +285,58 @@ camera::Lighting lighting(const CameraConfig& c) {
   }
   return l;
 }
+camera::Intrinsics renderIntrinsics(const CameraConfig& c) {
+  const camera::Intrinsics k = intrinsics(c);
+  return c.distortion.none() ? k : camera::LensRemap(k, c.distortion).render();
+}
+
+std::vector<std::string> cameraWarnings(const CameraConfig& c, const scenario::Json& resolved,
+                                        const std::string& path, int index) {
+  std::vector<std::string> out;
+  const Eigen::Isometry3d T_body_cam = bodyFromCamera(c.basics.mount.mount());
+  // KITTI's P1, P2, P3 are rectified: K [I | t], every camera turned as camera 0. A camera
+  // turned against camera 0 gets P = K [R | t], which projects correctly, but readers that
+  // take K from P's left 3 × 3 (pykitti) get K R instead.
+  const Eigen::Matrix3d R = (T_body_cam.inverse() * referenceCameraPose(resolved)).linear();
+  if ((R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9)
+    out.push_back(fmt::format(
+        "{}: the camera is turned against camera 0, so calib.txt's P{} is K [R | t], not a "
+        "rectified K [I | t]: project with it whole; readers that take K from its left 3 x 3 "
+        "(pykitti) get K R",
+        path, index + 2));
+  // The ground exists within terrain.tile_margin_m of a track: a camera that sees farther
+  // from its axis (looking along the track) or from itself (looking across it) can see where
+  // it ends, and what lies beyond comes out as sky, below the horizon.
+  const double sideways = c.far_m * std::max(1.0, renderIntrinsics(c).widestSideways());
+  if (const double margin = terrainSection().read(resolved).tile_margin_m; sideways > margin)
+    out.push_back(fmt::format(
+        "{}: at draw_distance_m {} m the picture reaches {:.0f} m from its axis, past the "
+        "terrain, which ends terrain.tile_margin_m {} m from the tracks: the ground's edge can "
+        "be in view, and the pixels beyond it are labelled sky; raise terrain.tile_margin_m to "
+        "{:.0f} m",
+        path, c.far_m, sideways, margin, std::ceil(sideways)));
+  // The near plane cuts away what is nearer than near_m along the optical axis: for a camera
+  // that looks down steeply from low down (an inspection camera) that is the track itself,
+  // drawn as nothing (depth 0, class sky). Judged from the rail-top plane under a level train
+  // (the reported point is reference_point above the pivots' midpoint at rail top).
+  const TrainConfig train = trainSection().read(resolved);
+  const camera::Intrinsics k = intrinsics(c);
+  const double height = T_body_cam.translation().z() + train.reference_point.z();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const double u : {0.0, 0.5 * (c.width - 1), c.width - 1.0})
+    for (const double v : {0.0, c.height - 1.0}) {
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const double down = -(T_body_cam.linear() * ray).z();  // per metre of depth
+      if (height > 0.0 && down > 0.0)
+        nearest = std::min(nearest, height / down);
+    }
+  if (nearest < c.near_m)
+    out.push_back(
+        fmt::format("{}: the camera sees the rail-top plane from {:.2f} m along its axis, "
+                    "nearer than near_m ({} m): what lies nearer is not drawn (depth 0, "
+                    "class sky); lower near_m",
+                    path, nearest, c.near_m));
+  return out;
+}
+
 }  // namespace trainsim::sim

@@ -3,6 +3,8 @@
 // declares, checks and reads it) and what follows from it: the intrinsics, the lighting and the
 // camera's pose on the body.
 #include <span>
+#include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -63,5 +65,14 @@ double skywardLight(const camera::Lighting& l);
 
 /// The sun, sky and lamps of the configuration's daytime (sensors-reference.md 7.5).
 camera::Lighting lighting(const CameraConfig& c);
+
+/// The pinhole it renders with: intrinsics(c), or with a lens the larger one LensRemap draws.
+camera::Intrinsics renderIntrinsics(const CameraConfig& c);
+
+/// Settings that are valid but may not do what is meant (a camera turned against camera 0, a
+/// view past the terrain's edge, a near plane cutting the track), for the camera `index` at
+/// `path` in the resolved scenario: what validate and the run's start say.
+std::vector<std::string> cameraWarnings(const CameraConfig& c, const scenario::Json& resolved,
+                                        const std::string& path, int index);
 
 }  // namespace trainsim::sim

@@ -70,30 +70,9 @@ class CameraSensor final : public SensorOf<CameraFrame> {
       throw RuntimeError(
           fmt::format("{}: a camera needs the scene (the run did not make it)", setup.path));
     T_body_cam_ = bodyFromCamera(c.basics.mount.mount());
-    // KITTI's P1, P2, P3 are rectified: K [I | t], every camera turned as camera 0. A camera
-    // turned against camera 0 gets P = K [R | t], which projects correctly, but readers that
-    // take K from P's left 3 × 3 (pykitti) get K R instead. Said once, when the run starts.
-    const Eigen::Matrix3d R = (T_body_cam_.inverse() * T_body_cam0_).linear();
-    if ((R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9)
-      logWarn(fmt::format(
-          "{}: the camera is turned against camera 0, so calib.txt's P{} is K [R | t], not a "
-          "rectified K [I | t]: project with it whole; readers that take K from its left 3 x 3 "
-          "(pykitti) get K R",
-          setup.path, index_ + 2));
-    // The ground exists within terrain.tile_margin_m of a track: a camera that sees farther
-    // from its axis (looking along the track) or from itself (looking across it) can see where
-    // it ends, and what lies beyond comes out as sky, below the horizon.
+    // What its settings do that may not be meant is said by createSensors (cameraWarnings).
     const camera::Intrinsics& render = renderer_.options().intrinsics;
     reach_m_ = c.far_m * render.farthestRay();
-    const double sideways = c.far_m * std::max(1.0, render.widestSideways());
-    if (const double margin = terrainSection().read(setup.context.scenario.json()).tile_margin_m;
-        sideways > margin)
-      logWarn(fmt::format(
-          "{}: at draw_distance_m {} m the picture reaches {:.0f} m from its axis, past the "
-          "terrain, which ends terrain.tile_margin_m {} m from the tracks: the ground's edge can "
-          "be in view, and the pixels beyond it are labelled sky; raise terrain.tile_margin_m to "
-          "{:.0f} m",
-          setup.path, c.far_m, sideways, margin, std::ceil(sideways)));
     // The train's own body (train.body) is in the picture of a camera outside it (one looking
     // back along the roof, or down at it), as the box that stops the LiDARs' rays: unlabelled,
     // no instance. A camera inside the box is behind the windscreen and sees out.
@@ -125,26 +104,6 @@ class CameraSensor final : public SensorOf<CameraFrame> {
           tunnels_.push_back(block);
     camera_ahead_of_front_m_ = c.basics.mount.position_m.x() + train.reference_point.x() -
                                0.5 * train.vehicle.bogie_spacing_m;
-    // The near plane cuts away what is nearer than near_m along the optical axis: for a camera
-    // that looks down steeply from low down (an inspection camera) that is the track itself,
-    // drawn as nothing (depth 0, class sky). Said once, from the rail-top plane under a level
-    // train (the reported point is reference_point above the pivots' midpoint at rail top).
-    const double height = T_body_cam_.translation().z() + train.reference_point.z();
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const double u : {0.0, 0.5 * (c.width - 1), c.width - 1.0})
-      for (const double v : {0.0, c.height - 1.0}) {
-        const Eigen::Vector3d ray((u - intrinsics_.cx) / intrinsics_.fx,
-                                  (v - intrinsics_.cy) / intrinsics_.fy, 1.0);
-        const double down = -(T_body_cam_.linear() * ray).z();  // per metre of depth
-        if (height > 0.0 && down > 0.0)
-          nearest = std::min(nearest, height / down);
-      }
-    if (nearest < c.near_m)
-      logWarn(
-          fmt::format("{}: the camera sees the rail-top plane from {:.2f} m along its axis, "
-                      "nearer than near_m ({} m): what lies nearer is not drawn (depth 0, "
-                      "class sky); lower near_m",
-                      setup.path, nearest, c.near_m));
   }
 
   std::string name() const override { return name_; }
@@ -460,6 +419,11 @@ scenario::Param declareCamera() {
 void checkCamera(const scenario::Json& item, const std::string& path,
                  std::vector<scenario::Problem>& problems) {
   cameraBinding().problems(cameraBinding().read(item), path, problems);
+}
+
+std::vector<std::string> warnCamera(const scenario::Json& resolved, const scenario::Json& item,
+                                    const std::string& path, int index) {
+  return cameraWarnings(cameraBinding().read(item), resolved, path, index);
 }
 
 std::unique_ptr<Sensor> createCamera(const SensorSetup& setup) {

@@ -8,7 +8,6 @@
 #include <numbers>
 
 #include "trainsim/core/error.hpp"
-#include "trainsim/core/log.hpp"
 
 namespace trainsim::sim {
 namespace {
@@ -333,35 +332,45 @@ lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
   return p;
 }
 
-void warnAboutWastedSettings(const LidarConfig& c, const std::string& path) {
+std::vector<std::string> lidarWarnings(const LidarConfig& c, const std::string& path) {
+  std::vector<std::string> out;
+  // One ray a pulse has one echo: dual returns need the beam's footprint sampled. Valid (the
+  // files are those of strongest), but not what was asked for.
+  if (c.returns == ReturnMode::kDual && c.sub_rays == 1)
+    out.push_back(
+        fmt::format("{}: returns is dual but sub_rays is 1: one ray a pulse has one echo, "
+                    "so every pulse gives one point, as strongest would; set sub_rays (16 "
+                    "or more) and beam_divergence_mrad for second echoes",
+                    path));
   if (c.sub_rays > 1 && c.divergence_rad == 0.0)
-    logWarn(
+    out.push_back(
         fmt::format("{}: sub_rays is {} but beam_divergence_mrad is 0: every sub-ray is the "
                     "beam's axis, {} times the rays for the points one ray gives",
                     path, c.sub_rays, c.sub_rays));
   if (c.model == LidarModel::kUniform && c.uniform.channels == 1)
-    logWarn(
+    out.push_back(
         fmt::format("{}: uniform.channels is 1: its one laser is at fov_up_deg ({} deg) and "
                     "fov_down_deg is not used",
                     path, c.uniform.fov_up_rad / kRadPerDeg));
   if (c.fog_visibility_m > 0.0 && c.range_10_percent_m == 0.0)
-    logWarn(
+    out.push_back(
         fmt::format("{}: fog_visibility_m is set but range_10_percent_m is 0: a sensor that "
                     "detects every echo however faint returns the fog's own echo on every pulse "
                     "that meets nothing nearer; set range_10_percent_m (the OS1 datasheet: 40 m)",
                     path));
   if (const double device = devicePattern(c).range_max_m;
       c.model != LidarModel::kUniform && c.range_max_m > device)
-    logWarn(
+    out.push_back(
         fmt::format("{}: range_max_m {} m is beyond the {}'s {} m (its datasheet's range): "
                     "returns that far are more than the device gives",
                     path, c.range_max_m, presetName(c.model), device));
   if (const double device = devicePattern(c).range_min_m;
       c.model != LidarModel::kUniform && c.range_min_m > 0.0 && c.range_min_m < device)
-    logWarn(
+    out.push_back(
         fmt::format("{}: range_min_m {} m is below the {}'s {} m (its datasheet's shortest "
                     "range): returns that near are more than the device gives",
                     path, c.range_min_m, presetName(c.model), device));
+  return out;
 }
 
 }  // namespace trainsim::sim

@@ -6,6 +6,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -110,7 +111,9 @@ std::string insideTheBody(const Eigen::Isometry3d& pose, const lidar::ScanPatter
 lidar::LidarParams scannerParams(const LidarConfig& c, const TrainConfig& train,
                                  const std::string& path);
 
-/// Settings that are valid but do not do what they seem to: said once, when the run starts.
-void warnAboutWastedSettings(const LidarConfig& c, const std::string& path);
+/// Settings that are valid but do not do what they seem to (dual returns from one ray a pulse,
+/// sub-rays without divergence, fog without a detection limit, ranges beyond the device's):
+/// what validate and the run's start say, for the LiDAR at `path`.
+std::vector<std::string> lidarWarnings(const LidarConfig& c, const std::string& path);
 
 }  // namespace trainsim::sim

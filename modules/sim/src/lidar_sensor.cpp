@@ -121,15 +121,6 @@ class LidarSensor final : public SensorOf<LidarScan> {
       throw RuntimeError(
           fmt::format("{}: a LiDAR needs the scene (the run did not make it)", setup.path));
     T_body_sensor_ = bodyFromSensor(c.basics.mount.mount());
-    // One ray a pulse has one echo: dual returns need the beam's footprint sampled. Valid (the
-    // files are those of strongest), but not what was asked for; said once, when the run starts.
-    if (c.returns == ReturnMode::kDual && c.sub_rays == 1)
-      logWarn(
-          fmt::format("{}: returns is dual but sub_rays is 1: one ray a pulse has one echo, "
-                      "so every pulse gives one point, as strongest would; set sub_rays (16 "
-                      "or more) and beam_divergence_mrad for second echoes",
-                      setup.path));
-    warnAboutWastedSettings(c, setup.path);
   }
 
   std::string name() const override { return name_; }
@@ -288,6 +279,11 @@ void checkLidarClearOfTheBody(const scenario::Json& item, const TrainConfig& tra
                                             devicePattern(lidarBinding().read(item)), train);
       !why.empty())
     problems.push_back({mountPath(path), why});
+}
+
+std::vector<std::string> warnLidar(const scenario::Json&, const scenario::Json& item,
+                                   const std::string& path, int) {
+  return lidarWarnings(lidarBinding().read(item), path);
 }
 
 std::unique_ptr<Sensor> createLidar(const SensorSetup& setup) {

@@ -10,6 +10,7 @@
 #include "imu_sensor.hpp"
 #include "lidar_sensor.hpp"
 #include "positioning_sensors.hpp"
+#include "trainsim/core/log.hpp"
 #include "trainsim/sim/config.hpp"
 #include "trainsim/sim/frame_clock.hpp"
 #include "trainsim/sim/instance_table.hpp"
@@ -29,7 +30,8 @@ namespace trainsim::sim {
 //      parameter once (units in the keys); `scenario::Param declareX()` returns its
 //      declaration and `std::unique_ptr<Sensor> createX(const SensorSetup&)` reads it.
 //   3. Add one line below: {"<plural key>", "<one-line description>", &declareX, &createX,
-//      &checkX (the binding's checks: binding.problems(binding.read(item), path, out)), kXFiles},
+//      &checkX (the binding's checks: binding.problems(binding.read(item), path, out)), &warnX
+//      (the settings it takes that may not be meant; nullptr if none), kXFiles},
 //      where kXFiles lists the files the sensor writes ("{}.csv" for <name>.csv; sensor_params.hpp)
 //      and its outputs() returns (sensorFiles).
 // The schema (sensors.<key>[]), validation, `trainsim schema`, docs/SCENARIO.md, the studio's
@@ -40,17 +42,18 @@ namespace trainsim::sim {
 namespace {
 constexpr std::array<SensorKind, 6> kSensorKinds = {
     SensorKind{"imus", "9-axis IMUs (accelerometer, gyroscope, magnetometer)", &declareImu,
-               &createImu, &checkImu, kImuCsvs},
-    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, &checkGnss,
+               &createImu, &checkImu, nullptr, kImuCsvs},
+    SensorKind{"gnss_receivers", "GNSS receivers", &declareGnss, &createGnss, &checkGnss, nullptr,
                kReadingsCsv},
     SensorKind{"odometers", "Wheel odometers", &declareOdometer, &createOdometer, &checkOdometer,
-               kReadingsCsv},
+               nullptr, kReadingsCsv},
     SensorKind{"balise_readers", "Balise readers (and the balise groups they read)",
-               &declareBaliseReader, &createBaliseReader, &checkBaliseReader, kReadingsCsv},
+               &declareBaliseReader, &createBaliseReader, &checkBaliseReader, nullptr,
+               kReadingsCsv},
     SensorKind{"lidars", "Rotating multi-beam LiDARs (Embree)", &declareLidar, &createLidar,
-               &checkLidar, kReadingsCsv, /*frame_synchronous=*/true},
+               &checkLidar, &warnLidar, kReadingsCsv, /*frame_synchronous=*/true},
     SensorKind{"cameras", "Cameras (VTK offscreen rendering)", &declareCamera, &createCamera,
-               &checkCamera, kReadingsCsv, /*frame_synchronous=*/true},
+               &checkCamera, &warnCamera, kReadingsCsv, /*frame_synchronous=*/true},
 };
 
 constexpr const char* kSensors = "sensors";
@@ -125,7 +128,23 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
       nullptr,  referenceCameraPose(scenario.json())};
 }
 
+std::vector<std::string> sensorWarnings(const scenario::Json& resolved) {
+  std::vector<std::string> out;
+  for (const SensorKind& kind : sensorKinds()) {
+    const scenario::Json& list = resolved.at(kSensors).at(kind.key);
+    for (std::size_t i = 0; i < list.size() && kind.warn != nullptr; ++i) {
+      std::vector<std::string> lines = kind.warn(
+          resolved, list[i], fmt::format("{}.{}[{}]", kSensors, kind.key, i), static_cast<int>(i));
+      out.insert(out.end(), std::make_move_iterator(lines.begin()),
+                 std::make_move_iterator(lines.end()));
+    }
+  }
+  return out;
+}
+
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context) {
+  for (const std::string& line : sensorWarnings(context.scenario.json()))
+    logWarn(line);
   std::vector<std::unique_ptr<Sensor>> sensors;
   for (const SensorKind& kind : sensorKinds()) {
     const std::string path = fmt::format("{}.{}", kSensors, kind.key);

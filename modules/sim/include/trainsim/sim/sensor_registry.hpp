@@ -30,6 +30,11 @@ struct SensorKind {
   /// The checks across the fields of one resolved item (its binding's), at JSON path `path`.
   void (*check)(const scenario::Json& item, const std::string& path,
                 std::vector<scenario::Problem>& problems);
+  /// What is valid but may not be meant in the resolved item at `path` (the kind's `index`th
+  /// sensor) of the resolved scenario: one line each, said by validate and at a run's start.
+  /// Null for kinds with nothing to say.
+  std::vector<std::string> (*warn)(const scenario::Json& resolved, const scenario::Json& item,
+                                   const std::string& path, int index);
   /// The files a sensor of this kind writes in the sequence folder, with "{}" for its name
   /// ("{}.csv", "{}_truth.csv"); the schema checks that no two sensors share a file.
   std::span<const char* const> files;
@@ -53,7 +58,11 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
 /// axes at the body's reference point.
 Eigen::Isometry3d referenceCameraPose(const scenario::Json& resolved);
 
-/// Creates every sensor configured in the context's scenario, kind by kind in table order.
+/// What every sensor's settings do that may not be meant (SensorKind::warn), in table order.
+std::vector<std::string> sensorWarnings(const scenario::Json& resolved);
+
+/// Creates every sensor configured in the context's scenario, kind by kind in table order,
+/// after logging sensorWarnings() as warnings.
 /// The sensors keep references into `context`, which must outlive them.
 std::vector<std::unique_ptr<Sensor>> createSensors(const SensorContext& context);
 
