@@ -195,7 +195,11 @@ void runValidate(const std::string& path) {
     const scenario::Scenario scenario = sim::loadScenario(path);
     setLogLevel(LogLevel::kWarn);  // the plan's summary line is not validate's to print
     const std::unique_ptr<sim::Plan> plan = sim::makePlan(scenario);
-    // What generate would say of the sensors' settings as its run starts, said now.
+    // What generate would say as its run starts, said now: of the obstacles where they stand
+    // (the environment places them; its tiles are made only when a sensor asks for them) and of
+    // the sensors' settings.
+    if (sim::needsScene(scenario.json()))
+      sim::makeEnvironment(*plan, scenario);
     const std::vector<std::string> warnings = sim::sensorWarnings(scenario.json());
     for (const std::string& line : warnings)
       logWarn(line);

@@ -3,6 +3,17 @@ source "$(dirname "$0")/lib.sh" "$@"
 
 expect_exit 0 "defaults | validate -" -- bash -c "\"$TRAINSIM\" defaults | \"$TRAINSIM\" validate -"
 expect_exit 0 "validate the default config file" -- "$TRAINSIM" validate "$SRC/configs/default.json"
+# validate says what a run's start would: here of a car half on a bridge's deck, half off it
+# (the environment places the obstacles; a run with a LiDAR or camera makes it).
+cat >"$WORK/edge.json" <<'JSON'
+{"route": {"source": "blocks", "blocks": [{"type": "straight", "length_m": 200},
+   {"type": "bridge", "length_m": 200}, {"type": "straight", "length_m": 200}]},
+ "objects": {"obstacles": [{"kind": "car", "chainage_m": 300, "offset_m": 3.6, "heading_deg": 0}]},
+ "sensors": {"lidars": [{"model": "vlp16"}]}}
+JSON
+expect_exit 0 "validate an obstacle across a deck's edge" -- "$TRAINSIM" validate "$WORK/edge.json"
+expect_contains "$WORK/err" "objects.obstacles[0]: the surface under its footprint lies 0.00 m above to 13.78 m below its foot" \
+  "validate warns of an obstacle across an edge"
 expect_exit 0 "schema" -- "$TRAINSIM" schema
 expect_contains "$WORK/out" '| `trajectory.sample_period_ns` | integer | ns |' "schema lists T_S"
 for cmd in generate plan validate defaults schema evaluate bench; do
