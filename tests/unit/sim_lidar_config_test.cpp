@@ -141,6 +141,33 @@ TEST(SensorWarnings, EachSettingThatMayNotBeMeantIsOneLineNamingItsSensorAndTheD
   ASSERT_EQ(lines.size(), expected.size());
   for (std::size_t i = 0; i < lines.size(); ++i)  // in table order: the LiDARs, then the cameras
     EXPECT_EQ(lines[i].rfind(expected[i].first + ": " + expected[i].second, 0), 0u) << lines[i];
+  // Every LiDAR and camera in the same fog: nothing more to say. One camera in a thinner layer
+  // and one in clear air: each is said to differ from the first LiDAR, after the rest.
+  // (`lidars` no longer refers to the list: adding the cameras moved the ordered JSON's items.)
+  for (const char* kind : {"lidars", "cameras"})
+    for (scenario::Json& item : input["sensors"][kind]) {
+      item["fog_visibility_m"] = 200;
+      if (kind == std::string("lidars"))
+        item["range_10_percent_m"] = 40;
+    }
+  const scenario::Schema::Resolution same = scenarioSchema().resolve(input);
+  ASSERT_TRUE(same.problems.empty()) << same.problems[0].text();
+  EXPECT_EQ(sensorWarnings(same.resolved), lines);
+  input["sensors"]["cameras"][1]["fog_height_m"] = 50;
+  input["sensors"]["cameras"][2]["fog_visibility_m"] = 0;
+  const std::vector<std::string> foggy = sensorWarnings(scenarioSchema().resolve(input).resolved);
+  ASSERT_EQ(foggy.size(), lines.size() + 2);
+  EXPECT_EQ(foggy[lines.size()].rfind("sensors.cameras[1]: fog_visibility_m 200 m and "
+                                      "fog_height_m 50 m, but sensors.lidars[0] has "
+                                      "fog_visibility_m 200 m and fog_height_m 100 m",
+                                      0),
+            0u)
+      << foggy[lines.size()];
+  EXPECT_EQ(foggy[lines.size() + 1].rfind("sensors.cameras[2]: no fog (fog_visibility_m 0), but "
+                                          "sensors.lidars[0] has fog_visibility_m 200 m",
+                                          0),
+            0u)
+      << foggy[lines.size() + 1];
 }
 
 }  // namespace

@@ -6,8 +6,10 @@
 #include <array>
 #include <map>
 
+#include "camera_config.hpp"
 #include "camera_sensor.hpp"
 #include "imu_sensor.hpp"
+#include "lidar_config.hpp"
 #include "lidar_sensor.hpp"
 #include "positioning_sensors.hpp"
 #include "trainsim/core/log.hpp"
@@ -106,6 +108,37 @@ void checkPerceptionSensorsAboveTheRails(const scenario::Json& resolved,
     }
   }
 }
+// One weather for every perception sensor: a LiDAR and a camera given different fog record two
+// different days, one showing fog the other does not. Said of each that differs from the first.
+void warnAboutDifferentFog(const scenario::Json& resolved, std::vector<std::string>& out) {
+  struct Fog {
+    std::string path;
+    double visibility_m, height_m;
+  };
+  std::vector<Fog> fogs;
+  const auto add = [&](const SensorKind& kind, auto read) {
+    const scenario::Json& list = resolved.at(kSensors).at(kind.key);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const auto c = read(list[i]);
+      fogs.push_back(
+          {fmt::format("{}.{}[{}]", kSensors, kind.key, i), c.fog_visibility_m, c.fog_height_m});
+    }
+  };
+  add(kindOf(&createLidar), [](const scenario::Json& item) { return lidarBinding().read(item); });
+  add(kindOf(&createCamera), [](const scenario::Json& item) { return cameraBinding().read(item); });
+  const auto text = [](const Fog& f) {
+    return f.visibility_m > 0.0 ? fmt::format("fog_visibility_m {} m and fog_height_m {} m",
+                                              f.visibility_m, f.height_m)
+                                : std::string("no fog (fog_visibility_m 0)");
+  };
+  for (std::size_t i = 1; i < fogs.size(); ++i)
+    if (fogs[i].visibility_m != fogs[0].visibility_m ||
+        (fogs[i].visibility_m > 0.0 && fogs[i].height_m != fogs[0].height_m))
+      out.push_back(fmt::format(
+          "{}: {}, but {} has {}: the sensors record different weather; give every LiDAR and "
+          "camera the same fog_visibility_m and fog_height_m",
+          fogs[i].path, text(fogs[i]), fogs[0].path, text(fogs[0])));
+}
 }  // namespace
 
 std::span<const SensorKind> sensorKinds() {
@@ -139,6 +172,7 @@ std::vector<std::string> sensorWarnings(const scenario::Json& resolved) {
                  std::make_move_iterator(lines.end()));
     }
   }
+  warnAboutDifferentFog(resolved, out);
   return out;
 }
 

@@ -58,7 +58,8 @@ SensorContext makeSensorContext(const scenario::Scenario& scenario, const Trajec
 /// axes at the body's reference point.
 Eigen::Isometry3d referenceCameraPose(const scenario::Json& resolved);
 
-/// What every sensor's settings do that may not be meant (SensorKind::warn), in table order.
+/// What every sensor's settings do that may not be meant (SensorKind::warn), in table order,
+/// then LiDARs and cameras given different fog.
 std::vector<std::string> sensorWarnings(const scenario::Json& resolved);
 
 /// Creates every sensor configured in the context's scenario, kind by kind in table order,
