@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "trainsim/sim/config.hpp"
 
 namespace trainsim::sim {
@@ -217,6 +219,20 @@ const scenario::Section<environment::ObjectParams>& objectsSection() {
             "every run say which and why): a layout is drawn per seed, and one list should "
             "serve every seed's")
         .maxItems(10000);
+    // A cell holds one candidate at most: densities asking for more than one a cell would be
+    // cut short, the later kinds of the registry most (they draw from what the first leave).
+    b.check([](const O& o, const auto& at, std::vector<Problem>& out) {
+      double per_ha = 0.0;
+      for (const environment::ObjectKindParams& k : o.kinds)
+        per_ha += k.density_per_ha;
+      if (const double per_cell = per_ha * o.cell_m * o.cell_m / 1e4; per_cell > 1.0)
+        out.push_back({at(o.cell_m),
+                       fmt::format("{:g} m cells hold {:.2f} candidates each at the kinds' "
+                                   "density_per_ha (together {:g} per ha), but a cell holds one "
+                                   "at most: use cells of {:.1f} m or less, or lower the densities",
+                                   o.cell_m, per_cell, per_ha,
+                                   std::floor(std::sqrt(1e4 / per_ha) * 10.0) / 10.0)});
+    });
     return s;
   }();
   return section;
