@@ -167,8 +167,13 @@ std::shared_ptr<const RouteStage> buildRoute(const scenario::Scenario& sc, std::
       case RouteSource::kBlocks:
         return track::buildBlockRoute(config.blocks, opt);
       case RouteSource::kWaypoints:
-        return track::importWaypoints(config.waypoints_file, geodeticAnchor(sc.json()),
-                                      config.waypoints, opt);
+        try {
+          return track::importWaypoints(config.waypoints_file, geodeticAnchor(sc.json()),
+                                        config.waypoints, opt);
+        } catch (const ConfigError& e) {  // the file's problems, said of the key naming it
+          throw ConfigError(
+              fmt::format("{}: {}", routeSection().path(&RouteConfig::waypoints_file), e.what()));
+        }
       case RouteSource::kGenerated:
         break;
     }

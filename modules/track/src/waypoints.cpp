@@ -56,7 +56,7 @@ std::vector<Waypoint> readWaypoints(const std::filesystem::path& csv,
   try {
     text = io::readFile(csv, kMaxWaypointFileBytes);
   } catch (const IoError& e) {  // a missing or unreadable input file is bad input: exit 2
-    throw ConfigError(std::string("waypoint file: ") + e.what());
+    throw ConfigError(e.what());
   }
   const std::string where = csv.string();
   std::istringstream in(text);
